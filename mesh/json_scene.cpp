@@ -1,0 +1,226 @@
+// SPDX-License-Identifier: MIT
+#include "mesh/json_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <nlohmann/json.hpp>
+
+#include "mesh/input_error.h"
+#include "mesh/obj_reader.h"
+#include "mesh/text_file.h"
+#include "mesh/transform.h"
+
+namespace bounce {
+namespace {
+
+using json = nlohmann::json;
+using V = glm::dvec3;
+
+struct Context {
+    std::string where;  // "scene.json: objects[2]"
+    [[noreturn]] void fail(const std::string& why) const { throw InputError(where + ": " + why); }
+    void only_keys(const json& j, std::initializer_list<const char*> keys) const {
+        if (!j.is_object()) fail("expected an object");
+        std::set<std::string> ok(keys.begin(), keys.end());
+        for (auto it = j.begin(); it != j.end(); ++it)
+            if (!ok.count(it.key())) fail("unknown key '" + it.key() + "'");
+    }
+    double number(const json& j, const std::string& what) const {
+        if (!j.is_number()) fail(what + " must be a number");
+        const double v = j.get<double>();
+        if (!std::isfinite(v)) fail(what + " is not finite");
+        return v;
+    }
+    V vec3(const json& j, const std::string& what) const {
+        if (!j.is_array() || j.size() != 3) fail(what + " must be an array of 3 numbers");
+        return {number(j[0], what), number(j[1], what), number(j[2], what)};
+    }
+    Rgb rgb(const json& j, const std::string& what) const {
+        if (j.is_number()) return Rgb::gray(number(j, what));
+        const V v = vec3(j, what);
+        return {v.x, v.y, v.z};
+    }
+};
+
+Transform parse_transform(const json& j, const Context& cx) {
+    cx.only_keys(j, {"translate", "rotate", "scale", "matrix"});
+    Transform t;
+    if (j.contains("matrix")) {
+        if (j.size() != 1) cx.fail("transform: 'matrix' cannot be combined with translate/rotate/scale");
+        const json& m = j["matrix"];
+        if (!m.is_array() || m.size() != 16) cx.fail("transform.matrix must have 16 numbers (row-major 4x4)");
+        glm::dmat4 mat(1.0);
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) mat[c][r] = cx.number(m[4 * r + c], "transform.matrix");
+        if (mat[0][3] != 0 || mat[1][3] != 0 || mat[2][3] != 0 || mat[3][3] != 1)
+            cx.fail("transform.matrix must be affine (last row 0 0 0 1)");
+        t = Transform(mat);
+    } else {
+        if (j.contains("scale")) {
+            const json& s = j["scale"];
+            t = Transform::scale(s.is_number() ? V(cx.number(s, "scale")) : cx.vec3(s, "transform.scale"));
+        }
+        if (j.contains("rotate")) {
+            const json& r = j["rotate"];
+            cx.only_keys(r, {"axis", "degrees"});
+            if (!r.contains("axis") || !r.contains("degrees")) cx.fail("rotate needs 'axis' and 'degrees'");
+            const V axis = cx.vec3(r["axis"], "rotate.axis");
+            if (glm::length(axis) == 0.0) cx.fail("rotate.axis is zero");
+            t = Transform::rotate(cx.number(r["degrees"], "rotate.degrees"), axis) * t;
+        }
+        if (j.contains("translate")) t = Transform::translate(cx.vec3(j["translate"], "transform.translate")) * t;
+    }
+    if (!t.is_invertible()) cx.fail("transform is singular (flattens the object)");
+    return t;
+}
+
+std::vector<std::vector<V>> unit_quad() {
+    return {{{-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0}}};
+}
+
+std::vector<std::vector<V>> unit_box() {
+    // Counter-clockwise seen from outside.
+    const double h = 0.5;
+    return {
+        {{-h, -h, h}, {h, -h, h}, {h, h, h}, {-h, h, h}},      // +z
+        {{h, -h, -h}, {-h, -h, -h}, {-h, h, -h}, {h, h, -h}},  // -z
+        {{h, -h, h}, {h, -h, -h}, {h, h, -h}, {h, h, h}},      // +x
+        {{-h, -h, -h}, {-h, -h, h}, {-h, h, h}, {-h, h, -h}},  // -x
+        {{-h, h, h}, {h, h, h}, {h, h, -h}, {-h, h, -h}},      // +y
+        {{-h, -h, -h}, {h, -h, -h}, {h, -h, h}, {-h, -h, h}},  // -y
+    };
+}
+
+using OmMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
+
+std::vector<std::vector<V>> read_polygons_openmesh(const std::filesystem::path& file, const Context& cx) {
+    read_text_file(file, "mesh file");  // existence, directory and readability checks with a clear message
+    OmMesh mesh;
+    OpenMesh::IO::Options opt;
+    if (!OpenMesh::IO::read_mesh(mesh, file.string(), opt)) cx.fail("cannot read mesh file " + file.string());
+    std::vector<std::vector<V>> polys;
+    for (auto f : mesh.faces()) {
+        std::vector<V> poly;
+        for (auto v : mesh.fv_range(f)) {
+            const auto p = mesh.point(v);
+            poly.emplace_back(p[0], p[1], p[2]);
+        }
+        polys.push_back(std::move(poly));
+    }
+    return polys;
+}
+
+}  // namespace
+
+Scene read_json_scene(const std::filesystem::path& path) {
+    const std::string text = read_text_file(path, "JSON scene");
+    json doc;
+    try {
+        doc = json::parse(text);
+    } catch (const json::parse_error& e) {
+        std::string msg = e.what();
+        if (auto p = msg.find("parse error"); p != std::string::npos) msg = msg.substr(p);
+        throw InputError(path.string() + ": " + msg);
+    }
+    Context top{path.string()};
+    top.only_keys(doc, {"name", "materials", "objects"});
+    Scene scene;
+    scene.name = doc.contains("name") && doc["name"].is_string() ? doc["name"].get<std::string>() : path.stem().string();
+
+    std::map<std::string, int> byname;
+    if (doc.contains("materials")) {
+        if (!doc["materials"].is_object()) top.fail("'materials' must be an object of named materials");
+        for (auto it = doc["materials"].begin(); it != doc["materials"].end(); ++it) {
+            Context cx{path.string() + ": material '" + it.key() + "'"};
+            cx.only_keys(it.value(), {"reflectance", "emission"});
+            Material m{it.key(), Rgb::gray(0.5), Rgb()};
+            if (it->contains("reflectance")) m.reflectance = cx.rgb((*it)["reflectance"], "reflectance");
+            if (it->contains("emission")) m.emission = cx.rgb((*it)["emission"], "emission");
+            if (m.reflectance.min() < 0 || m.reflectance.max() > 1)
+                cx.fail("reflectance " + m.reflectance.to_string() + " is outside [0,1]");
+            if (m.emission.min() < 0) cx.fail("emission " + m.emission.to_string() + " is negative");
+            byname[m.name] = int(scene.materials.size());
+            scene.materials.push_back(m);
+        }
+    }
+    if (!doc.contains("objects") || !doc["objects"].is_array()) top.fail("'objects' must be an array");
+    int default_material = -1;
+    const json& objects = doc["objects"];
+    for (std::size_t k = 0; k < objects.size(); ++k) {
+        const json& o = objects[k];
+        Context cx{path.string() + ": objects[" + std::to_string(k) + "]"};
+        cx.only_keys(o, {"type", "file", "material", "transform", "flip", "inward", "name"});
+        if (!o.contains("type") || !o["type"].is_string()) cx.fail("needs a 'type' (quad, box or mesh)");
+        const std::string type = o["type"];
+        const std::string name = o.contains("name") && o["name"].is_string() ? o["name"].get<std::string>()
+                                                                                : type + " " + std::to_string(k);
+        int material = -1;
+        if (o.contains("material")) {
+            if (!o["material"].is_string()) cx.fail("'material' must name an entry of 'materials'");
+            auto it = byname.find(o["material"].get<std::string>());
+            if (it == byname.end()) cx.fail("material '" + o["material"].get<std::string>() + "' is not defined");
+            material = it->second;
+        }
+        const Transform t = o.contains("transform") ? parse_transform(o["transform"], cx) : Transform();
+        bool flip = false;
+        if (o.contains("flip")) {
+            if (!o["flip"].is_boolean()) cx.fail("'flip' must be true or false");
+            flip = o["flip"];
+        }
+        if (o.contains("inward")) {
+            if (type != "box" || !o["inward"].is_boolean()) cx.fail("'inward' is a true/false option of boxes");
+            flip = flip != o["inward"].get<bool>();
+        }
+
+        std::vector<Surface> surfaces;
+        if (type == "quad" || type == "box") {
+            if (o.contains("file")) cx.fail("'file' belongs to type mesh");
+            for (auto& poly : (type == "quad" ? unit_quad() : unit_box()))
+                surfaces.push_back({poly, material, name, {cx.where + " (" + type + ")", 0}});
+        } else if (type == "mesh") {
+            if (!o.contains("file") || !o["file"].is_string()) cx.fail("type mesh needs a 'file'");
+            const std::filesystem::path file = path.parent_path() / o["file"].get<std::string>();
+            const std::string ext = file.extension().string();
+            if (ext == ".obj" || ext == ".OBJ") {
+                Scene sub = read_obj(file);
+                const int base = int(scene.materials.size());
+                for (auto& m : sub.materials) scene.materials.push_back(m);
+                for (auto& w : sub.warnings) scene.warnings.push_back(w);
+                for (auto& s : sub.surfaces) {
+                    s.material = material >= 0 ? material : base + s.material;
+                    surfaces.push_back(std::move(s));
+                }
+            } else if (ext == ".ply" || ext == ".off" || ext == ".PLY" || ext == ".OFF") {
+                for (auto& poly : read_polygons_openmesh(file, cx))
+                    surfaces.push_back({poly, material, name, {file.string(), 0}});
+            } else {
+                cx.fail("mesh file " + file.string() + " is not .obj, .ply or .off");
+            }
+        } else {
+            cx.fail("unknown type '" + type + "' (expected quad, box or mesh)");
+        }
+        for (auto& s : surfaces) {
+            if (s.material < 0) {
+                if (default_material < 0) {
+                    default_material = int(scene.materials.size());
+                    scene.materials.push_back({"default white 0.5", Rgb::gray(0.5), Rgb()});
+                    scene.warnings.push_back(cx.where + ": no material; using white 0.5");
+                }
+                s.material = default_material;
+            }
+            for (auto& v : s.vertices) v = t.point(v);
+            // A mirroring transform reverses the winding; reverse it back so the front stays
+            // the side the inverse-transpose normal points to.
+            if (t.flips_orientation() != flip) std::reverse(s.vertices.begin(), s.vertices.end());
+            scene.surfaces.push_back(std::move(s));
+        }
+    }
+    return scene;
+}
+
+}  // namespace bounce

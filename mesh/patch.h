@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <array>
+#include <span>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "mesh/rgb.h"
+
+namespace bounce {
+
+/// One planar element of the radiosity system: a triangle or a quad, constant radiosity over
+/// its area. Plain values copied out of the patch mesh so the solver's inner loops touch
+/// contiguous memory.
+struct Patch {
+    std::array<glm::dvec3, 4> vertices{};  // counter-clockwise seen from the front
+    int vertex_count = 0;                   // 3 or 4
+    glm::dvec3 centre{0.0};                 // area centroid
+    glm::dvec3 normal{0.0};                 // unit, towards the front (the lit side)
+    double area = 0.0;                      // scene units squared
+    Rgb reflectance;                        // rho in [0,1]
+    Rgb emission;                           // E, emitted radiosity
+    int surface = 0;                        // index of the input surface it was cut from
+
+    std::span<const glm::dvec3> polygon() const { return {vertices.data(), std::size_t(vertex_count)}; }
+    std::string to_string() const;
+};
+
+}  // namespace bounce

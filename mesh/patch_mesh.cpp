@@ -1,0 +1,167 @@
+// SPDX-License-Identifier: MIT
+#include "mesh/patch_mesh.h"
+
+#include <cmath>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+
+#include "mesh/input_error.h"
+#include "mesh/polygon.h"
+
+namespace bounce {
+namespace {
+
+using V = glm::dvec3;
+
+bool convex_quad(std::span<const V> q) {
+    const V n = newell_normal(q);
+    for (int k = 0; k < 4; ++k)
+        if (glm::dot(glm::cross(q[(k + 1) % 4] - q[k], q[(k + 2) % 4] - q[(k + 1) % 4]), n) <= 0) return false;
+    return true;
+}
+
+/// A piece of a surface that is cut by a regular grid: a convex quad (bilinear grid nu x nv)
+/// or a triangle (k x k similar triangles).
+struct Piece {
+    std::vector<V> corners;
+    int nu = 1, nv = 1;
+    std::size_t count() const { return corners.size() == 4 ? std::size_t(nu) * nv : std::size_t(nu) * nu; }
+};
+
+int cuts(double length, double h) {
+    if (h <= 0) return 1;
+    const double n = std::ceil(length / h - 1e-9);
+    return n < 1 ? 1 : (n > 1e6 ? 1000000 : int(n));
+}
+
+}  // namespace
+
+std::string Patch::to_string() const {
+    std::ostringstream s;
+    s << "Patch{surface " << surface << ", area " << area << ", centre (" << centre.x << ", " << centre.y << ", "
+      << centre.z << "), normal (" << normal.x << ", " << normal.y << ", " << normal.z << "), rho "
+      << reflectance.to_string() << ", E " << emission.to_string() << "}";
+    return s.str();
+}
+
+PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
+    double total = 0.0;
+    for (const auto& s : scene.surfaces) total += polygon_area(s.vertices);
+    if (!(options.max_area >= 0) || !(options.max_edge >= 0))
+        throw InputError("meshing: --max-area and --max-edge must be positive");
+    double max_area = options.max_area;
+    if (options.max_area == 0 && options.max_edge == 0 && options.target_patches > 0)
+        max_area = total / double(options.target_patches);
+    double h = 0.0;
+    if (max_area > 0) h = std::sqrt(max_area);
+    if (options.max_edge > 0) h = h > 0 ? std::min(h, options.max_edge) : options.max_edge;
+    if (!options.subdivide) h = 0.0;
+    m_edge = h;
+
+    // Plan every piece first, so an absurd request is refused before anything is allocated.
+    std::vector<std::pair<int, Piece>> pieces;
+    double planned = 0.0;
+    for (std::size_t si = 0; si < scene.surfaces.size(); ++si) {
+        const auto& poly = scene.surfaces[si].vertices;
+        auto add_triangle = [&](const V& a, const V& b, const V& c) {
+            const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+            Piece p{{a, b, c}, cuts(longest, h), 0};
+            planned += double(p.nu) * p.nu;
+            pieces.emplace_back(int(si), std::move(p));
+        };
+        if (poly.size() == 4 && convex_quad(poly)) {
+            Piece p{poly, cuts(std::max(glm::length(poly[1] - poly[0]), glm::length(poly[2] - poly[3])), h),
+                    cuts(std::max(glm::length(poly[3] - poly[0]), glm::length(poly[2] - poly[1])), h)};
+            planned += double(p.nu) * p.nv;
+            pieces.emplace_back(int(si), std::move(p));
+        } else if (poly.size() == 3) {
+            add_triangle(poly[0], poly[1], poly[2]);
+        } else {
+            for (const auto& t : triangulate_polygon(poly)) add_triangle(poly[t[0]], poly[t[1]], poly[t[2]]);
+        }
+    }
+    if (planned > double(options.max_patches)) {
+        std::ostringstream msg;
+        msg << "meshing would make " << planned << " patches, more than the limit of " << options.max_patches
+            << " (raise --max-area or --max-edge)";
+        throw InputError(msg.str());
+    }
+
+    auto face_surface = OpenMesh::FPropHandleT<int>();
+    m_mesh.add_property(face_surface, "f:surface");
+    m_patches.reserve(std::size_t(planned));
+    auto emit_patch = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
+        const auto& surface = scene.surfaces[si];
+        const auto& mat = scene.materials[surface.material];
+        Patch p;
+        p.vertex_count = int(vh.size());
+        for (int k = 0; k < p.vertex_count; ++k) {
+            const auto q = m_mesh.point(vh[k]);
+            p.vertices[k] = V(q[0], q[1], q[2]);
+        }
+        const V n = newell_normal(p.polygon());
+        p.area = 0.5 * glm::length(n);
+        p.normal = n / (2.0 * p.area);
+        p.centre = polygon_centroid(p.polygon());
+        p.reflectance = mat.reflectance;
+        p.emission = mat.emission;
+        p.surface = si;
+        const auto f = m_mesh.add_face(vh);
+        if (!f.is_valid()) throw std::runtime_error("patch mesh: OpenMesh refused a face of surface " + surface.where.to_string());
+        m_mesh.property(face_surface, f) = si;
+        m_patches.push_back(p);
+    };
+    auto vertex = [&](const V& p) { return m_mesh.add_vertex(OpenPatchMesh::Point(p.x, p.y, p.z)); };
+
+    for (const auto& [si, piece] : pieces) {
+        const auto& c = piece.corners;
+        if (c.size() == 4) {
+            // Bilinear grid: sub-quads of a planar quad are planar and tile it exactly.
+            const int nu = piece.nu, nv = piece.nv;
+            std::vector<OpenPatchMesh::VertexHandle> grid((nu + 1) * (nv + 1));
+            for (int b = 0; b <= nv; ++b)
+                for (int a = 0; a <= nu; ++a) {
+                    const double u = double(a) / nu, v = double(b) / nv;
+                    grid[b * (nu + 1) + a] =
+                        vertex((1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3]);
+                }
+            for (int b = 0; b < nv; ++b)
+                for (int a = 0; a < nu; ++a)
+                    emit_patch(si, {grid[b * (nu + 1) + a], grid[b * (nu + 1) + a + 1],
+                                    grid[(b + 1) * (nu + 1) + a + 1], grid[(b + 1) * (nu + 1) + a]});
+        } else {
+            // k x k similar triangles on the barycentric lattice (i, j), i + j <= k.
+            const int k = piece.nu;
+            std::vector<std::vector<OpenPatchMesh::VertexHandle>> lat(k + 1);
+            for (int i = 0; i <= k; ++i)
+                for (int j = 0; i + j <= k; ++j)
+                    lat[i].push_back(vertex(c[0] + (double(i) / k) * (c[1] - c[0]) + (double(j) / k) * (c[2] - c[0])));
+            for (int i = 0; i < k; ++i)
+                for (int j = 0; i + j < k; ++j) {
+                    emit_patch(si, {lat[i][j], lat[i + 1][j], lat[i][j + 1]});
+                    if (i + j + 1 < k) emit_patch(si, {lat[i + 1][j], lat[i + 1][j + 1], lat[i][j + 1]});
+                }
+        }
+    }
+}
+
+std::vector<int> PatchMesh::patch_vertex_indices(std::size_t p) const {
+    std::vector<int> out;
+    for (auto v : m_mesh.fv_range(m_mesh.face_handle(int(p)))) out.push_back(v.idx());
+    return out;
+}
+
+double PatchMesh::total_area() const {
+    double a = 0.0;
+    for (const auto& p : m_patches) a += p.area;
+    return a;
+}
+
+Rgb PatchMesh::emitted_power() const {
+    Rgb e;
+    for (const auto& p : m_patches) e += p.emission * p.area;
+    return e;
+}
+
+}  // namespace bounce

@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
+#include "mesh/patch.h"
+#include "mesh/scene.h"
+
+namespace bounce {
+
+/// How finely surfaces are cut into patches. A patch is at most max_edge long on each side
+/// and at most max_area in area; 0 means "not limited by this".
+struct MeshingOptions {
+    double max_area = 0.0;          // scene units^2; 0 with max_edge 0: total area / target_patches
+    double max_edge = 0.0;          // scene units
+    std::size_t target_patches = 2000;   // used for the default when neither limit is set
+    std::size_t max_patches = 2000000;   // refuse meshings larger than this, before building them
+    bool subdivide = true;          // false: one patch per input face (polygons > 4 are triangulated)
+};
+
+struct PatchMeshTraits : OpenMesh::DefaultTraits {
+    using Point = OpenMesh::Vec3d;
+    using Normal = OpenMesh::Vec3d;
+};
+using OpenPatchMesh = OpenMesh::PolyMesh_ArrayKernelT<PatchMeshTraits>;
+
+/// The scene cut into patches. OpenMesh holds the connectivity (vertices shared between
+/// patches of one input surface, so exported point data is smooth within a surface and
+/// radiosity does not bleed across creases); `patches()` holds the same faces as plain values.
+class PatchMesh {
+public:
+    PatchMesh(const Scene& scene, const MeshingOptions& options);
+
+    const std::vector<Patch>& patches() const { return m_patches; }
+    std::size_t size() const { return m_patches.size(); }
+    const OpenPatchMesh& mesh() const { return m_mesh; }
+    /// Vertex indices of patch p, in order (3 or 4).
+    std::vector<int> patch_vertex_indices(std::size_t p) const;
+    /// Edge length actually used for cutting.
+    double edge_length() const { return m_edge; }
+    double total_area() const;
+    Rgb emitted_power() const;  // sum of E_i A_i
+
+private:
+    OpenPatchMesh m_mesh;
+    std::vector<Patch> m_patches;
+    double m_edge = 0.0;
+};
+
+}  // namespace bounce

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: MIT
+#include "mesh/scene.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "mesh/input_error.h"
+
+namespace bounce {
+
+std::string Rgb::to_string() const {
+    std::ostringstream s;
+    s << "(" << r << ", " << g << ", " << b << ")";
+    return s.str();
+}
+
+std::string SourceLocation::to_string() const {
+    if (line > 0) return file + ":" + std::to_string(line);
+    return file;
+}
+
+void Scene::validate() const {
+    for (const auto& m : materials) {
+        for (int c = 0; c < 3; ++c) {
+            const double rho = m.reflectance[c], e = m.emission[c];
+            if (!std::isfinite(rho) || rho < 0.0 || rho > 1.0)
+                throw InputError("material '" + m.name + "': reflectance " +
+                                 m.reflectance.to_string() + " is outside [0,1]");
+            if (!std::isfinite(e) || e < 0.0)
+                throw InputError("material '" + m.name + "': emission " + m.emission.to_string() +
+                                 " is negative or not finite");
+        }
+    }
+    for (const auto& s : surfaces) {
+        for (const auto& v : s.vertices)
+            if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+                throw InputError(s.where.to_string() + ": face has a NaN or infinite coordinate");
+        if (s.material < 0 || s.material >= int(materials.size()))
+            throw InputError(s.where.to_string() + ": face has no valid material");
+    }
+}
+
+}  // namespace bounce

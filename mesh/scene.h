@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mesh/rgb.h"
+
+namespace bounce {
+
+/// A diffuse material: reflectance rho in [0,1] per channel and emitted radiosity E >= 0
+/// (power per unit area leaving the surface by emission, radiance E/pi).
+struct Material {
+    std::string name;
+    Rgb reflectance = Rgb::gray(0.5);  // rho, dimensionless
+    Rgb emission;                      // E, W/m^2 per channel (scene units)
+};
+
+/// Where a surface came from, for messages: "file.obj:42" or "cornell box: floor".
+struct SourceLocation {
+    std::string file;
+    int line = 0;  // 1-based; 0 when there is no line (built-in or generated geometry)
+    std::string to_string() const;
+};
+
+/// One planar polygon of the input, before subdivision into patches. Vertices are in
+/// counter-clockwise order seen from the front; the front is the side that emits and reflects.
+struct Surface {
+    std::vector<glm::dvec3> vertices;
+    int material = 0;     // index into Scene::materials
+    std::string object;   // object or group name of the input
+    SourceLocation where;
+};
+
+/// A scene as read from its source: polygons with materials. Surfaces are one-sided.
+struct Scene {
+    std::string name;
+    std::vector<Material> materials;
+    std::vector<Surface> surfaces;
+    std::vector<std::string> warnings;  // problems that were repaired, to show the user
+
+    /// Checks reflectance in [0,1], emission >= 0 and finite coordinates; throws InputError
+    /// naming the material or surface. Does not look at the geometry of faces (see
+    /// check_geometry).
+    void validate() const;
+};
+
+}  // namespace bounce

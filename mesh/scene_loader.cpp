@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+#include "mesh/scene_loader.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "mesh/cornell_box.h"
+#include "mesh/geometry_check.h"
+#include "mesh/input_error.h"
+#include "mesh/json_scene.h"
+#include "mesh/obj_reader.h"
+
+namespace bounce {
+
+Scene load_scene(const std::string& spec) {
+    Scene scene;
+    if (spec == "cornell") {
+        scene = make_cornell_box();
+    } else {
+        std::string ext = std::filesystem::path(spec).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+        if (ext == ".obj") {
+            scene = read_obj(spec);
+        } else if (ext == ".json") {
+            scene = read_json_scene(spec);
+        } else {
+            throw InputError(spec + ": unknown scene type (expected 'cornell', a .obj or a .json file)");
+        }
+    }
+    scene.validate();
+    check_geometry(scene, spec);
+    return scene;
+}
+
+}  // namespace bounce

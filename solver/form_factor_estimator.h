@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "mesh/patch.h"
+
+namespace bounce {
+
+class Visibility;
+
+/// Settings shared by the form-factor methods.
+struct FormFactorOptions {
+    int visibility_rays = 4;          // rays per patch pair for the visible fraction (stratified)
+    double receiver_sampling = 2.0;   // receiver points per side = ceil(this * size / distance)
+    int max_receiver_samples = 8;     // cap on points per side of a receiver
+    std::uint64_t seed = 1;           // rays depend only on (seed, i, j): thread-count independent
+};
+
+/// Computes rows of the form-factor matrix. F_ij is the fraction of power leaving patch i
+/// (diffusely, from its front) that arrives at patch j; rows sum to 1 in a closed enclosure
+/// and A_i F_ij = A_j F_ji (reciprocity).
+class FormFactorEstimator {
+public:
+    virtual ~FormFactorEstimator() = default;
+    virtual std::string name() const = 0;
+    /// row[j] = F_ij for every patch j (row.size() == patch count); row[i] = 0 (planar patches
+    /// do not see themselves). Safe to call concurrently for different rows.
+    virtual void compute_row(std::size_t i, std::span<float> row) const = 0;
+};
+
+/// The methods by name: "raycast" (exact point-to-polygon kernel at receiver points times a
+/// ray-traced visible fraction) and "analytic" (the same kernel, no occlusion). Throws
+/// std::invalid_argument on an unknown name, listing the valid ones. `visibility` must
+/// outlive the estimator; it may be null for "analytic".
+std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::string& method,
+                                                                const std::vector<Patch>& patches,
+                                                                const Visibility* visibility,
+                                                                const FormFactorOptions& options);
+
+/// The method names make_form_factor_estimator accepts.
+std::vector<std::string> form_factor_methods();
+
+}  // namespace bounce

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mesh/patch.h"
+
+namespace bounce {
+
+/// A point on a patch with its share of the patch's area (weights sum to 1).
+struct AreaSample {
+    glm::dvec3 point;
+    double weight;
+};
+
+/// n x n quadrature points over a patch: cell midpoints of the bilinear grid for quads
+/// (weighted by the grid's Jacobian), centroids of the n^2 similar sub-triangles for
+/// triangles. Midpoint rule: error O(1/n^2) for a smooth integrand.
+void patch_quadrature(const Patch& patch, int n, std::vector<AreaSample>& out);
+
+/// The point of a patch at unit-square coordinates (u, v): bilinear for quads, the
+/// area-uniform square-root warp for triangles.
+glm::dvec3 patch_point(const Patch& patch, double u, double v);
+
+/// Small, fast, seedable generator (SplitMix64, Steele et al. 2014) so every patch pair gets
+/// its own reproducible stream whatever the thread schedule.
+struct SplitMix64 {
+    std::uint64_t state;
+    std::uint64_t next() {
+        std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    double uniform() { return double(next() >> 11) * 0x1.0p-53; }
+};
+
+}  // namespace bounce

@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: MIT
+#include "solver/raycast_form_factor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+
+#include "solver/patch_sampling.h"
+#include "solver/point_polygon_form_factor.h"
+#include "solver/visibility.h"
+
+namespace bounce {
+namespace {
+
+/// Signed height of x above the plane of patch p.
+double height(const Patch& p, const glm::dvec3& x) { return glm::dot(p.normal, x - p.vertices[0]); }
+
+/// True when no vertex of `q` is strictly in front of `p` (p cannot send power to q).
+bool wholly_behind(const Patch& p, const Patch& q) {
+    const double tol = 1e-12 * std::sqrt(p.area + q.area);
+    for (int k = 0; k < q.vertex_count; ++k)
+        if (height(p, q.vertices[k]) > tol) return false;
+    return true;
+}
+
+double patch_size(const Patch& p) {
+    double s = 0.0;
+    for (int k = 0; k < p.vertex_count; ++k)
+        for (int l = k + 1; l < p.vertex_count; ++l) s = std::max(s, glm::length(p.vertices[k] - p.vertices[l]));
+    return s;
+}
+
+}  // namespace
+
+RaycastFormFactor::RaycastFormFactor(const std::vector<Patch>& patches, const Visibility* visibility,
+                                     const FormFactorOptions& options)
+    : m_patches(patches), m_visibility(visibility), m_options(options) {
+    if (options.visibility_rays < 1) throw std::invalid_argument("visibility rays must be at least 1");
+    if (!(options.receiver_sampling > 0) || options.max_receiver_samples < 1)
+        throw std::invalid_argument("receiver sampling must be positive");
+}
+
+double RaycastFormFactor::visible_fraction(std::size_t i, std::size_t j) const {
+    if (!m_visibility) return 1.0;
+    // Canonical order so (i, j) and (j, i) trace the very same rays.
+    const std::size_t lo = std::min(i, j), hi = std::max(i, j);
+    const Patch& a = m_patches[lo];
+    const Patch& b = m_patches[hi];
+    const int m = m_options.visibility_rays;
+    const int side = int(std::ceil(std::sqrt(double(m))));
+    SplitMix64 rng{m_options.seed * 0x9E3779B97F4A7C15ull ^ (std::uint64_t(lo) << 32 | std::uint64_t(hi))};
+    // A random pairing of the strata on a and b (Latin-style), drawn from the pair's stream.
+    int perm[64];
+    const int cells = std::min(side * side, 64);
+    std::iota(perm, perm + cells, 0);
+    for (int k = cells - 1; k > 0; --k) std::swap(perm[k], perm[rng.next() % std::uint64_t(k + 1)]);
+    const double eps = m_visibility->offset();
+    int valid = 0, open = 0;
+    for (int r = 0; r < m; ++r) {
+        const int ca = r % cells, cb = perm[r % cells];
+        const glm::dvec3 pa = patch_point(a, (ca % side + rng.uniform()) / side, (ca / side + rng.uniform()) / side);
+        const glm::dvec3 pb = patch_point(b, (cb % side + rng.uniform()) / side, (cb / side + rng.uniform()) / side);
+        // Rays from points behind the other patch carry no power; leave them out.
+        if (height(a, pb) <= eps || height(b, pa) <= eps) continue;
+        ++valid;
+        if (!m_visibility->occluded(pa + eps * a.normal, pb + eps * b.normal)) ++open;
+    }
+    return valid == 0 ? 1.0 : double(open) / valid;
+}
+
+double RaycastFormFactor::pair(std::size_t i, std::size_t j) const {
+    if (i == j) return 0.0;
+    const Patch& s = m_patches[i];
+    const Patch& r = m_patches[j];
+    if (wholly_behind(s, r) || wholly_behind(r, s)) return 0.0;
+    const double dist = glm::length(r.centre - s.centre);
+    const double want = std::ceil(m_options.receiver_sampling * patch_size(r) / std::max(dist, 1e-300));
+    const int n = int(std::clamp(want, 1.0, double(m_options.max_receiver_samples)));
+    thread_local std::vector<AreaSample> samples;
+    patch_quadrature(r, n, samples);
+    double fji = 0.0;
+    for (const auto& q : samples)
+        if (height(s, q.point) > 0) fji += q.weight * point_polygon_form_factor(q.point, r.normal, s.polygon());
+    if (fji <= 0.0) return 0.0;
+    return fji * visible_fraction(i, j) * r.area / s.area;
+}
+
+void RaycastFormFactor::compute_row(std::size_t i, std::span<float> row) const {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, row.size(), 64), [&](const auto& range) {
+        for (std::size_t j = range.begin(); j != range.end(); ++j) row[j] = float(pair(i, j));
+    });
+}
+
+std::vector<std::string> form_factor_methods() { return {"raycast", "analytic"}; }
+
+std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::string& method,
+                                                                const std::vector<Patch>& patches,
+                                                                const Visibility* visibility,
+                                                                const FormFactorOptions& options) {
+    if (method == "raycast") {
+        if (!visibility) throw std::invalid_argument("raycast form factors need a visibility backend");
+        return std::make_unique<RaycastFormFactor>(patches, visibility, options);
+    }
+    if (method == "analytic") return std::make_unique<RaycastFormFactor>(patches, nullptr, options);
+    std::string valid;
+    for (const auto& m : form_factor_methods()) valid += (valid.empty() ? "" : ", ") + m;
+    throw std::invalid_argument("unknown form-factor method '" + method + "' (valid: " + valid + ")");
+}
+
+}  // namespace bounce

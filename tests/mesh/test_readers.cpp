@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: MIT
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include "mesh/cornell_box.h"
+#include "mesh/input_error.h"
+#include "mesh/json_scene.h"
+#include "mesh/obj_reader.h"
+#include "mesh/polygon.h"
+#include "mesh/scene_loader.h"
+#include "test_util.h"
+
+using namespace bounce;
+using V = glm::dvec3;
+
+namespace {
+
+/// Runs f, expects an InputError whose message contains every fragment.
+template <class F>
+void expect_input_error(F f, std::initializer_list<std::string> fragments) {
+    try {
+        f();
+        ADD_FAILURE() << "no InputError";
+    } catch (const InputError& e) {
+        const std::string msg = e.what();
+        for (const auto& frag : fragments) EXPECT_NE(msg.find(frag), std::string::npos) << msg << " lacks " << frag;
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+    }
+}
+
+}  // namespace
+
+TEST(ObjReader, LoadsTheCornellFixtureWithItsQuirks) {
+    const Scene s = read_obj(test::fixture("cornell_box.obj"));
+    // floor 3 faces (floor and the two block bottoms), light, ceiling, back, green, red,
+    // 5 + 5 block faces; the front wall is commented out.
+    EXPECT_EQ(s.surfaces.size(), 18u);
+    int lights = 0;
+    for (const auto& f : s.surfaces) {
+        const Material& m = s.materials[f.material];
+        if (m.name == "light") {
+            ++lights;
+            EXPECT_EQ(m.emission, Rgb(340000, 190000, 100000));
+            // Negative indices -4..-1 resolve to the four light vertices at y = 548.
+            for (const auto& v : f.vertices) EXPECT_EQ(v.y, 548.0);
+            EXPECT_NEAR(polygon_area(f.vertices), 130.0 * 105.0, 1e-9);
+        }
+        if (m.name == "red") {
+            EXPECT_EQ(m.reflectance, Rgb(1, 0, 0));
+            EXPECT_EQ(f.object, "red_wall");
+        }
+    }
+    EXPECT_EQ(lights, 1);
+    // Loaded through the scene loader too: materials valid, geometry checked.
+    const Scene checked = load_scene(test::fixture("cornell_box.obj").string());
+    EXPECT_EQ(checked.surfaces.size(), 18u);
+}
+
+TEST(ObjReader, FacesWithoutMaterialAreWhiteHalfWithAWarning) {
+    test::TempDir dir;
+    const auto f = dir.write("plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\r\n\tf 1 2 3 4\nf -4/1/1 -3/2/2 -2/3/3\n");
+    const Scene s = read_obj(f);
+    ASSERT_EQ(s.surfaces.size(), 2u);
+    EXPECT_EQ(s.materials[s.surfaces[0].material].reflectance, Rgb::gray(0.5));
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("no material"), std::string::npos);
+}
+
+TEST(ObjReader, PentagonsLoadAndKeepTheirArea) {
+    test::TempDir dir;
+    const auto f = dir.write("penta.obj", "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 2 0\nv 0 1 0\nf 1 2 3 4 5\n");
+    const Scene s = load_scene(f.string());
+    ASSERT_EQ(s.surfaces.size(), 1u);
+    EXPECT_NEAR(polygon_area(s.surfaces[0].vertices), 3.0, 1e-12);
+}
+
+TEST(ObjReader, BadInputNamesFileAndLine) {
+    test::TempDir dir;
+    const auto idx = dir.write("idx.obj", "v 0 0 0\nv 1 0 0\n# comment\nf 1 2 7\n");
+    expect_input_error([&] { read_obj(idx); }, {"idx.obj:4", "out of range"});
+    const auto nan = dir.write("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+    expect_input_error([&] { read_obj(nan); }, {"nan.obj:2", "NaN"});
+    const auto num = dir.write("num.obj", "v 0 0 0\nv 1 zero 0\n");
+    expect_input_error([&] { read_obj(num); }, {"num.obj:2", "bad number"});
+    dir.write("bad.mtl", "newmtl m\nKd 1.5 0.2 0.2\n");
+    const auto kd = dir.write("kd.obj", "mtllib bad.mtl\nv 0 0 0\n");
+    expect_input_error([&] { read_obj(kd); }, {"bad.mtl:2", "outside [0,1]"});
+    dir.write("neg.mtl", "newmtl m\nKe -1 0 0\n");
+    const auto ke = dir.write("ke.obj", "mtllib neg.mtl\n");
+    expect_input_error([&] { read_obj(ke); }, {"neg.mtl:2", "negative"});
+    expect_input_error([&] { read_obj(dir / "missing.obj"); }, {"missing.obj", "not found"});
+    expect_input_error([&] { read_obj(dir.path()); }, {"directory"});
+    const auto bin = dir.write("bin.obj", std::string("v 0 0 0\n\0\x01\x02", 11));
+    expect_input_error([&] { read_obj(bin); }, {"bin.obj", "binary"});
+    const auto empty = dir.write("empty.obj", "# nothing\n");
+    expect_input_error([&] { load_scene(empty.string()); }, {"empty.obj", "empty scene"});
+    expect_input_error([&] { load_scene((dir / "x.stl").string()); }, {"x.stl", "unknown scene type"});
+}
+
+TEST(GeometryCheck, DegenerateFacesAreDroppedWithAWarningNamingTheLine) {
+    test::TempDir dir;
+    const auto f = dir.write("deg.obj",
+                             "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 2\n");
+    const Scene s = load_scene(f.string());
+    EXPECT_EQ(s.surfaces.size(), 1u);
+    int degenerate = 0;
+    for (const auto& w : s.warnings)
+        if (w.find("degenerate") != std::string::npos) {
+            ++degenerate;
+            EXPECT_TRUE(w.find("deg.obj:6") != std::string::npos || w.find("deg.obj:7") != std::string::npos) << w;
+        }
+    EXPECT_EQ(degenerate, 2);
+}
+
+TEST(GeometryCheck, NonPlanarQuadIsSplitWithAWarning) {
+    test::TempDir dir;
+    const auto f = dir.write("np.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nf 1 2 3 4\n");
+    const Scene s = load_scene(f.string());
+    EXPECT_EQ(s.surfaces.size(), 2u);
+    int named = 0;
+    for (const auto& w : s.warnings)
+        named += w.find("np.obj:5") != std::string::npos && w.find("non-planar") != std::string::npos;
+    EXPECT_EQ(named, 1);
+}
+
+TEST(JsonScene, BadInputIsNamed) {
+    test::TempDir dir;
+    const auto key = dir.write("k.json", R"({"objects": [{"type": "quad", "colour": 1}]})");
+    expect_input_error([&] { read_json_scene(key); }, {"k.json", "objects[0]", "unknown key 'colour'"});
+    const auto rho = dir.write("r.json", R"({"materials": {"m": {"reflectance": 1.2}}, "objects": []})");
+    expect_input_error([&] { read_json_scene(rho); }, {"r.json", "material 'm'", "outside [0,1]"});
+    const auto syn = dir.write("s.json", "{\"objects\": [\n{\"type\": \"quad\",}\n]}");
+    expect_input_error([&] { read_json_scene(syn); }, {"s.json", "line 2"});
+    const auto sing = dir.write("z.json", R"({"objects": [{"type": "box", "transform": {"scale": [1, 0, 1]}}]})");
+    expect_input_error([&] { read_json_scene(sing); }, {"z.json", "singular"});
+    const auto mesh = dir.write("m.json", R"({"objects": [{"type": "mesh", "file": "nope.ply"}]})");
+    expect_input_error([&] { read_json_scene(mesh); }, {"nope.ply", "not found"});
+}
+
+TEST(JsonScene, PlacesMeshFilesFromObjAndOff) {
+    test::TempDir dir;
+    dir.write("tri.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    std::filesystem::copy(test::fixture("cornell_box.obj"), dir / "cornell_box.obj");
+    std::filesystem::copy(test::fixture("cornell_box.mtl"), dir / "cornell_box.mtl");
+    const auto f = dir.write("m.json", R"({"materials": {"w": {"reflectance": 0.3}}, "objects": [
+        {"type": "mesh", "file": "tri.off", "material": "w", "transform": {"translate": [0, 0, 5]}},
+        {"type": "mesh", "file": "cornell_box.obj", "transform": {"scale": 0.001}}]})");
+    const Scene s = read_json_scene(f);
+    ASSERT_EQ(s.surfaces.size(), 19u);
+    EXPECT_EQ(s.surfaces[0].vertices[0].z, 5.0);
+    EXPECT_EQ(s.materials[s.surfaces[0].material].reflectance, Rgb::gray(0.3));
+    EXPECT_NEAR(s.surfaces[1].vertices[0].x, 0.5528, 1e-12);
+}
+
+TEST(CornellBox, MatchesThePublishedDataAndFacesInwards) {
+    const Scene s = make_cornell_box();
+    EXPECT_EQ(s.surfaces.size(), 6u + 2 * 5u);
+    const V inside(278, 274, 280);
+    for (const auto& f : s.surfaces) {
+        const V n = glm::normalize(newell_normal(f.vertices));
+        const V c = polygon_centroid(f.vertices);
+        if (f.object == "light") {
+            EXPECT_NEAR(n.y, -1.0, 1e-12);
+            EXPECT_NEAR(polygon_area(f.vertices), 130.0 * 105.0, 1e-9);
+            EXPECT_EQ(s.materials[f.material].emission, Rgb(17, 12, 4));
+            EXPECT_EQ(s.materials[f.material].reflectance, Rgb(0, 0, 0));
+        } else if (f.object.find("block") == std::string::npos) {
+            EXPECT_GT(glm::dot(n, inside - c), 0.0) << f.object << " faces into the room";
+        } else {
+            EXPECT_GE(n.y, -1e-12) << f.object << " faces up or sideways";
+        }
+        if (f.object == "red wall") {
+            EXPECT_EQ(s.materials[f.material].reflectance, Rgb(0.63, 0.065, 0.05));
+        }
+    }
+}

@@ -1,0 +1,171 @@
+// SPDX-License-Identifier: MIT
+#include "viewer/vtu_writer.h"
+
+#include <stdexcept>
+#include <system_error>
+#include <unistd.h>
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkStringArray.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include "viewer/version.h"
+
+namespace bounce {
+namespace {
+
+vtkNew<vtkDoubleArray> rgb_array(const char* name, std::size_t n) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name);
+    a->SetNumberOfComponents(3);
+    a->SetComponentName(0, "R");
+    a->SetComponentName(1, "G");
+    a->SetComponentName(2, "B");
+    a->SetNumberOfTuples(vtkIdType(n));
+    return a;
+}
+
+void set_rgb(vtkDoubleArray* a, std::size_t i, const Rgb& c) {
+    const double v[3] = {c.r, c.g, c.b};
+    a->SetTypedTuple(vtkIdType(i), v);
+}
+
+void add_field(vtkFieldData* fd, const char* name, const std::string& value) {
+    vtkNew<vtkStringArray> a;
+    a->SetName(name);
+    a->InsertNextValue(value);
+    fd->AddArray(a);
+}
+
+void add_field(vtkFieldData* fd, const char* name, double value) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name);
+    a->InsertNextValue(value);
+    fd->AddArray(a);
+}
+
+void add_field(vtkFieldData* fd, const char* name, const Rgb& value) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name);
+    a->SetNumberOfComponents(3);
+    const double v[3] = {value.r, value.g, value.b};
+    a->InsertNextTypedTuple(v);
+    fd->AddArray(a);
+}
+
+}  // namespace
+
+void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const SolveResult& result,
+               const ExportInfo& info, bool ascii) {
+    const auto& patches = mesh.patches();
+    const std::size_t n = patches.size();
+    if (result.radiosity.size() != n) throw std::runtime_error("write_vtu: solution and mesh differ in size");
+    const auto& om = mesh.mesh();
+
+    vtkNew<vtkUnstructuredGrid> grid;
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    points->SetNumberOfPoints(vtkIdType(om.n_vertices()));
+    for (auto v : om.vertices()) {
+        const auto p = om.point(v);
+        points->SetPoint(v.idx(), p[0], p[1], p[2]);
+    }
+    grid->SetPoints(points);
+    grid->Allocate(vtkIdType(n));
+
+    auto radiosity = rgb_array("radiosity", n);
+    auto emission = rgb_array("emission", n);
+    auto reflectance = rgb_array("reflectance", n);
+    auto irradiance = rgb_array("irradiance", n);
+    vtkNew<vtkDoubleArray> luminance, area;
+    luminance->SetName("luminance");
+    luminance->SetNumberOfTuples(vtkIdType(n));
+    area->SetName("area");
+    area->SetNumberOfTuples(vtkIdType(n));
+    vtkNew<vtkIntArray> surface;
+    surface->SetName("surface");
+    surface->SetNumberOfTuples(vtkIdType(n));
+
+    std::vector<Rgb> vertex_sum(om.n_vertices());
+    std::vector<double> vertex_weight(om.n_vertices(), 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto ids = mesh.patch_vertex_indices(i);
+        std::vector<vtkIdType> cell(ids.begin(), ids.end());
+        grid->InsertNextCell(ids.size() == 4 ? VTK_QUAD : VTK_TRIANGLE, vtkIdType(cell.size()), cell.data());
+        const Patch& p = patches[i];
+        set_rgb(radiosity, i, result.radiosity[i]);
+        set_rgb(emission, i, p.emission);
+        set_rgb(reflectance, i, p.reflectance);
+        set_rgb(irradiance, i, result.irradiance.size() == n ? result.irradiance[i] : Rgb());
+        luminance->SetValue(vtkIdType(i), result.radiosity[i].luminance());
+        area->SetValue(vtkIdType(i), p.area);
+        surface->SetValue(vtkIdType(i), p.surface);
+        for (int v : ids) {
+            vertex_sum[v] += result.radiosity[i] * p.area;
+            vertex_weight[v] += p.area;
+        }
+    }
+    auto cd = grid->GetCellData();
+    cd->AddArray(radiosity);
+    cd->AddArray(emission);
+    cd->AddArray(reflectance);
+    cd->AddArray(irradiance);
+    cd->AddArray(luminance);
+    cd->AddArray(area);
+    cd->AddArray(surface);
+    cd->SetActiveScalars("luminance");
+
+    auto point_radiosity = rgb_array("radiosity", om.n_vertices());
+    for (std::size_t v = 0; v < om.n_vertices(); ++v)
+        set_rgb(point_radiosity, v, vertex_weight[v] > 0 ? vertex_sum[v] * (1.0 / vertex_weight[v]) : Rgb());
+    grid->GetPointData()->AddArray(point_radiosity);
+
+    auto fd = grid->GetFieldData();
+    add_field(fd, "scene", info.scene);
+    add_field(fd, "solver", result.solver);
+    add_field(fd, "form_factors", result.form_factors);
+    add_field(fd, "settings", info.settings);
+    add_field(fd, "version", std::string(kBounceVersion));
+    add_field(fd, "steps", double(result.steps));
+    add_field(fd, "unshot_fraction", result.unshot_fraction);
+    add_field(fd, "converged", result.converged ? 1.0 : 0.0);
+    add_field(fd, "seconds", result.seconds);
+    add_field(fd, "emitted_power", result.emitted_power);
+    add_field(fd, "absorbed_power", result.absorbed_power);
+    add_field(fd, "escaped_power", result.escaped_power);
+    add_field(fd, "unshot_power", result.unshot_power);
+
+    // Temporary name in the same directory, so the final rename is atomic.
+    std::filesystem::path tmp = path;
+    tmp += ".tmp-" + std::to_string(::getpid());
+    vtkNew<vtkXMLUnstructuredGridWriter> writer;
+    writer->SetFileName(tmp.string().c_str());
+    writer->SetInputData(grid);
+    if (ascii) {
+        writer->SetDataModeToAscii();
+    } else {
+        writer->SetDataModeToAppended();
+        writer->SetCompressorTypeToZLib();
+    }
+    const int ok = writer->Write();
+    std::error_code ec;
+    if (!ok || writer->GetErrorCode() != 0) {
+        std::filesystem::remove(tmp, ec);
+        throw std::runtime_error(path.string() + ": cannot write the .vtu file");
+    }
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw std::runtime_error(path.string() + ": cannot write the .vtu file (" + ec.message() + ")");
+    }
+}
+
+}  // namespace bounce

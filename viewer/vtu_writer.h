@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "mesh/patch_mesh.h"
+#include "solver/solve_result.h"
+
+namespace bounce {
+
+/// What the exporter records about the run in the file's field data.
+struct ExportInfo {
+    std::string scene;      // scene name or path
+    std::string settings;   // free text: meshing and form-factor settings
+};
+
+/// Writes a VTK XML unstructured grid (.vtu) with one cell per patch.
+/// Cell data: radiosity (RGB), emission (RGB), reflectance (RGB), irradiance (RGB),
+/// luminance (Rec. 709 of radiosity), area, surface (input face id). Point data: radiosity
+/// averaged over the patches around each vertex, weighted by area (smooth shading in
+/// ParaView). Field data: scene, solver, form_factors, settings, steps, unshot_fraction,
+/// converged, version, and the powers emitted/absorbed/escaped/unshot (RGB).
+/// Written to a temporary file beside `path`, then renamed: a failed write never leaves a
+/// partial file. Throws std::runtime_error naming the path.
+void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const SolveResult& result,
+               const ExportInfo& info, bool ascii = false);
+
+}  // namespace bounce
