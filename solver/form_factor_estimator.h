@@ -16,8 +16,8 @@ class Visibility;
 /// Settings shared by the form-factor methods.
 struct FormFactorOptions {
     int visibility_rays = 4;          // rays per patch pair for the visible fraction (stratified)
-    double receiver_sampling = 2.0;   // receiver points per side = ceil(this * size / distance)
-    int max_receiver_samples = 8;     // cap on points per side of a receiver
+    double receiver_sampling = 4.0;   // receiver points per side = ceil(this * size / distance)
+    int max_receiver_samples = 16;    // cap on points per side of a receiver
     std::uint64_t seed = 1;           // rays depend only on (seed, i, j): thread-count independent
 };
 

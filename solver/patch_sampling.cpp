@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "solver/patch_sampling.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -15,34 +16,73 @@ glm::dvec3 patch_point(const Patch& p, double u, double v) {
     return (1 - su) * c[0] + su * (1 - v) * c[1] + su * v * c[2];
 }
 
+namespace {
+
+/// Gauss-Legendre nodes and weights on [0,1] for n = 1..kMaxGaussPoints, computed once by
+/// Newton's method on the Legendre recurrence.
+constexpr int kMaxGaussPoints = 16;
+struct GaussTable {
+    double x[kMaxGaussPoints + 1][kMaxGaussPoints];
+    double w[kMaxGaussPoints + 1][kMaxGaussPoints];
+    GaussTable() {
+        for (int n = 1; n <= kMaxGaussPoints; ++n)
+            for (int i = 0; i < n; ++i) {
+                double z = std::cos(3.14159265358979323846 * (i + 0.75) / (n + 0.5)), dp = 1;
+                for (int it = 0; it < 100; ++it) {
+                    double p0 = 1, p1 = z;
+                    for (int k = 2; k <= n; ++k) {
+                        const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
+                        p0 = p1;
+                        p1 = p2;
+                    }
+                    dp = n * (z * p1 - p0) / (z * z - 1);
+                    const double dz = p1 / dp;
+                    z -= dz;
+                    if (std::abs(dz) < 1e-16) break;
+                }
+                x[n][i] = 0.5 * (1 - z);
+                w[n][i] = 1.0 / ((1 - z * z) * dp * dp);
+            }
+    }
+};
+const GaussTable& gauss() {
+    static const GaussTable table;
+    return table;
+}
+
+}  // namespace
+
 void patch_quadrature(const Patch& p, int n, std::vector<AreaSample>& out) {
     out.clear();
-    const auto& c = p.vertices;
     if (n <= 1) {
         out.push_back({p.centre, 1.0});
         return;
     }
-    if (p.vertex_count == 4) {
-        double total = 0.0;
-        for (int b = 0; b < n; ++b)
-            for (int a = 0; a < n; ++a) {
-                const double u = (a + 0.5) / n, v = (b + 0.5) / n;
+    n = std::min(n, kMaxGaussPoints);
+    const auto& g = gauss();
+    const auto& c = p.vertices;
+    double total = 0.0;
+    for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) {
+            const double u = g.x[n][a], v = g.x[n][b];
+            double jac;
+            glm::dvec3 x;
+            if (p.vertex_count == 4) {
+                // Bilinear map of the unit square; its Jacobian weights the points.
                 const glm::dvec3 du = (1 - v) * (c[1] - c[0]) + v * (c[2] - c[3]);
                 const glm::dvec3 dv = (1 - u) * (c[3] - c[0]) + u * (c[2] - c[1]);
-                const double w = glm::length(glm::cross(du, dv));
-                out.push_back({patch_point(p, u, v), w});
-                total += w;
+                jac = glm::length(glm::cross(du, dv));
+                x = (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3];
+            } else {
+                // Collapsed square (Duffy): x = (1-u) c0 + u (1-v) c1 + u v c2, Jacobian ~ u.
+                jac = u;
+                x = (1 - u) * c[0] + u * (1 - v) * c[1] + u * v * c[2];
             }
-        for (auto& s : out) s.weight /= total;
-        return;
-    }
-    const double w = 1.0 / (double(n) * n);
-    const glm::dvec3 e1 = (c[1] - c[0]) / double(n), e2 = (c[2] - c[0]) / double(n);
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; i + j < n; ++j) {
-            out.push_back({c[0] + (i + 1.0 / 3) * e1 + (j + 1.0 / 3) * e2, w});
-            if (i + j + 1 < n) out.push_back({c[0] + (i + 2.0 / 3) * e1 + (j + 2.0 / 3) * e2, w});
+            const double w = g.w[n][a] * g.w[n][b] * jac;
+            out.push_back({x, w});
+            total += w;
         }
+    for (auto& s : out) s.weight /= total;
 }
 
 }  // namespace bounce

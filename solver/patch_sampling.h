@@ -16,9 +16,9 @@ struct AreaSample {
     double weight;
 };
 
-/// n x n quadrature points over a patch: cell midpoints of the bilinear grid for quads
-/// (weighted by the grid's Jacobian), centroids of the n^2 similar sub-triangles for
-/// triangles. Midpoint rule: error O(1/n^2) for a smooth integrand.
+/// n x n Gauss-Legendre points over a patch (n <= 16; n = 1 gives the centroid): the
+/// bilinear map of the unit square for quads, the collapsed square (Duffy) for triangles,
+/// weighted by the map's Jacobian. Exponential convergence for smooth integrands.
 void patch_quadrature(const Patch& patch, int n, std::vector<AreaSample>& out);
 
 /// The point of a patch at unit-square coordinates (u, v): bilinear for quads, the

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+// Small scenes for solver tests, built in code.
+#pragma once
+
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mesh/scene.h"
+
+namespace bounce::test {
+
+using V = glm::dvec3;
+
+/// Two directly opposed a x b rectangles at distance c: the lower (z = 0) faces up, the upper
+/// faces down. Surface 0 is the lower one.
+inline Scene parallel_pair(double a, double b, double c, Rgb rho = Rgb::gray(0.5)) {
+    Scene s;
+    s.name = "parallel pair";
+    s.materials = {{"m", rho, Rgb()}, {"lamp", Rgb(), Rgb::gray(1.0)}};
+    s.surfaces.push_back({{{0, 0, 0}, {a, 0, 0}, {a, b, 0}, {0, b, 0}}, 1, "lower", {"test", 0}});
+    s.surfaces.push_back({{{0, 0, c}, {0, b, c}, {a, b, c}, {a, 0, c}}, 0, "upper", {"test", 0}});
+    return s;
+}
+
+/// Rectangle 1 (w x l, in z = 0, facing +z) and rectangle 2 (h x l, in x = 0, facing +x)
+/// sharing the edge along y from 0 to l.
+inline Scene perpendicular_pair(double h, double w, double l) {
+    Scene s;
+    s.name = "perpendicular pair";
+    s.materials = {{"m", Rgb::gray(0.5), Rgb()}, {"lamp", Rgb(), Rgb::gray(1.0)}};
+    s.surfaces.push_back({{{0, 0, 0}, {w, 0, 0}, {w, l, 0}, {0, l, 0}}, 1, "one", {"test", 0}});
+    s.surfaces.push_back({{{0, 0, 0}, {0, l, 0}, {0, l, h}, {0, 0, h}}, 0, "two", {"test", 0}});
+    return s;
+}
+
+/// A closed box [0,sx]x[0,sy]x[0,sz] facing inwards, every wall with material 0.
+inline Scene closed_box(V size, Material m) {
+    Scene s;
+    s.name = "closed box";
+    s.materials = {m};
+    const double x = size.x, y = size.y, z = size.z;
+    const std::vector<std::vector<V>> faces = {
+        {{0, 0, 0}, {x, 0, 0}, {x, y, 0}, {0, y, 0}},  // z = 0, facing +z
+        {{0, 0, z}, {0, y, z}, {x, y, z}, {x, 0, z}},  // z = sz, facing -z
+        {{0, 0, 0}, {0, y, 0}, {0, y, z}, {0, 0, z}},  // x = 0, facing +x
+        {{x, 0, 0}, {x, 0, z}, {x, y, z}, {x, y, 0}},  // x = sx, facing -x
+        {{0, 0, 0}, {0, 0, z}, {x, 0, z}, {x, 0, 0}},  // y = 0, facing +y
+        {{0, y, 0}, {x, y, 0}, {x, y, z}, {0, y, z}},  // y = sy, facing -y
+    };
+    for (const auto& f : faces) s.surfaces.push_back({f, 0, "wall", {"test", 0}});
+    return s;
+}
+
+}  // namespace bounce::test
