@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: MIT
+// The real program, run as a user runs it.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "test_util.h"
+
+using namespace bounce;
+
+namespace {
+
+const std::string kExe = BOUNCE_EXE;
+
+test::RunResult bounce_run(const std::string& args) { return test::run(kExe + " " + args); }
+
+std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+int lines(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+}  // namespace
+
+TEST(Cli, HelpAndUsage) {
+    EXPECT_EQ(bounce_run("--help").exit_code, 0);
+    const auto solve = bounce_run("solve --help");
+    EXPECT_EQ(solve.exit_code, 0);
+    EXPECT_NE(solve.out.find("--max-area"), std::string::npos);
+    const auto none = bounce_run("");
+    EXPECT_EQ(none.exit_code, 2);
+    const auto bad = bounce_run("solve --max-area -1");
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_EQ(lines(bad.err), 1) << bad.err;
+    EXPECT_EQ(bounce_run("solve --no-such-flag").exit_code, 2);
+    EXPECT_EQ(bounce_run("solve --form-factors hemisphere").exit_code, 2);
+}
+
+TEST(Cli, SolvesTheCornellBoxAndWritesAVtu) {
+    test::TempDir dir;
+    const auto out = dir / "cornell.vtu";
+    const auto r = bounce_run("solve --max-area 4000 -o " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(out));
+    EXPECT_NE(r.out.find("patches"), std::string::npos);
+    EXPECT_NE(r.out.find("shots"), std::string::npos);
+    EXPECT_EQ(r.err.find("error"), std::string::npos);
+    // Nothing but the output: no temporary left behind.
+    int files = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
+    EXPECT_EQ(files, 1);
+    // --quiet prints nothing on success.
+    const auto q = bounce_run("solve --quiet --max-area 8000 -o " + (dir / "q.vtu").string());
+    EXPECT_EQ(q.exit_code, 0);
+    EXPECT_EQ(q.out, "");
+    EXPECT_EQ(q.err, "");
+}
+
+TEST(Cli, SolvesTheObjFixtureAndReportsInfo) {
+    test::TempDir dir;
+    const auto r = bounce_run("solve " + test::fixture("cornell_box.obj").string() + " --max-area 4000 -o " +
+                              (dir / "f.vtu").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "f.vtu"));
+    const auto info = bounce_run("info " + test::fixture("cornell_box.obj").string());
+    EXPECT_EQ(info.exit_code, 0);
+    EXPECT_NE(info.out.find("surfaces:       18"), std::string::npos) << info.out;
+}
+
+TEST(Cli, NotConvergedWithinTheShotLimitExitsThreeAndStillWrites) {
+    test::TempDir dir;
+    const auto r = bounce_run("solve --max-area 8000 --max-shots 3 -o " + (dir / "p.vtu").string());
+    EXPECT_EQ(r.exit_code, 3);
+    EXPECT_NE(r.out.find("NOT converged"), std::string::npos);
+    EXPECT_TRUE(std::filesystem::exists(dir / "p.vtu"));
+}
+
+TEST(Cli, DegenerateFacesAreDroppedWithAWarningNotAnError) {
+    test::TempDir dir;
+    const auto scene = dir.write("d.obj", "mtllib d.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
+                                          "usemtl lamp\nf 1 2 3 4\nf 1 2 5\n");
+    dir.write("d.mtl", "newmtl lamp\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
+    const auto r = bounce_run("solve " + scene.string() + " -o " + (dir / "d.vtu").string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("d.obj:9"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("degenerate"), std::string::npos) << r.err;
+}
+
+TEST(Cli, BadInputGivesOneLineExitTwoAndNoOutput) {
+    test::TempDir dir;
+    dir.write("bad.mtl", "newmtl m\nKd 1.5 0 0\n");
+    dir.write("neg.mtl", "newmtl m\nKe -3 0 0\n");
+    struct Case {
+        std::string scene, expect;
+    };
+    const std::vector<Case> cases = {
+        {(dir / "missing.obj").string(), "not found"},
+        {dir.write("malformed.obj", "v 0 0 0\nv 1 0\n").string(), "malformed.obj:2"},
+        {dir.write("nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n").string(), "nan.obj:2"},
+        {dir.write("index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n").string(), "index.obj:4"},
+        {dir.write("rho.obj", "mtllib bad.mtl\n").string(), "bad.mtl:2"},
+        {dir.write("emission.obj", "mtllib neg.mtl\n").string(), "neg.mtl:2"},
+        {dir.write("empty.obj", "# no faces\n").string(), "empty scene"},
+        {dir.write("zero.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").string(), "empty scene"},
+        {dir.write("binary.obj", std::string("v 1 2 3\n\0\0\xff", 11)).string(), "binary"},
+        {dir.path().string() + "/sub.obj", "directory"},
+        {dir.write("scene.stl", "solid x\n").string(), "unknown scene type"},
+        {dir.write("key.json", R"({"objects": [{"type": "quad", "size": 2}]})").string(), "unknown key 'size'"},
+        {dir.write("syntax.json", "{\"objects\": [\n").string(), "syntax.json"},
+        {dir.write("dark.json", R"({"objects": [{"type": "box", "inward": true}]})").string(), "emits no light"},
+    };
+    std::filesystem::create_directory(dir / "sub.obj");
+    for (const auto& c : cases) {
+        const auto out = dir / "out.vtu";
+        std::filesystem::remove(out);
+        const auto r = bounce_run("solve " + c.scene + " -o " + out.string() + " --quiet");
+        EXPECT_EQ(r.exit_code, 2) << c.scene << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1) << c.scene << ": " << r.err;
+        EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.scene << ": " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(out)) << c.scene;
+        // An existing output is left as it was.
+        std::ofstream(out) << "keep";
+        EXPECT_EQ(bounce_run("solve " + c.scene + " -o " + out.string() + " --quiet").exit_code, 2);
+        EXPECT_EQ(slurp(out), "keep") << c.scene;
+    }
+    const auto nodir = bounce_run("solve --max-area 8000 -o " + (dir / "nope" / "x.vtu").string());
+    EXPECT_EQ(nodir.exit_code, 2);
+    EXPECT_NE(nodir.err.find("does not exist"), std::string::npos);
+}

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: MIT
+#include <gtest/gtest.h>
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkStringArray.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include "mesh/cornell_box.h"
+#include "mesh/patch_mesh.h"
+#include "solver/form_factor_estimator.h"
+#include "solver/shooting_solver.h"
+#include "solver/visibility.h"
+#include "test_util.h"
+#include "viewer/vtu_writer.h"
+
+using namespace bounce;
+
+namespace {
+
+struct Solved {
+    PatchMesh mesh;
+    SolveResult result;
+};
+
+const Solved& cornell() {
+    static const Solved s = [] {
+        MeshingOptions o;
+        o.target_patches = 600;
+        PatchMesh mesh(make_cornell_box(), o);
+        const auto vis = make_cgal_visibility(mesh.patches());
+        const auto ff = make_form_factor_estimator("raycast", mesh.patches(), vis.get(), {});
+        ShootingOptions so;
+        so.tolerance = 1e-3;
+        SolveResult r = ShootingSolver(mesh.patches(), *ff, so).solve();
+        return Solved{std::move(mesh), std::move(r)};
+    }();
+    return s;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> read(const std::filesystem::path& p) {
+    vtkNew<vtkXMLUnstructuredGridReader> r;
+    r->SetFileName(p.string().c_str());
+    r->Update();
+    return r->GetOutput();
+}
+
+double field(vtkUnstructuredGrid* g, const char* name, int component = 0) {
+    auto* a = g->GetFieldData()->GetArray(name);
+    if (!a) ADD_FAILURE() << "missing field " << name;
+    return a ? a->GetComponent(0, component) : 0.0;
+}
+
+}  // namespace
+
+TEST(VtuWriter, ReadsBackWithEveryArrayAndTheEnergyBalanceHoldsFromTheFile) {
+    test::TempDir dir;
+    const auto& s = cornell();
+    for (bool ascii : {false, true}) {
+        const auto path = dir / (ascii ? "a.vtu" : "b.vtu");
+        write_vtu(path, s.mesh, s.result, {"cornell", "test"}, ascii);
+        const auto g = read(path);
+        const vtkIdType n = vtkIdType(s.mesh.size());
+        ASSERT_EQ(g->GetNumberOfCells(), n);
+        auto* cd = g->GetCellData();
+        for (const char* name : {"radiosity", "emission", "reflectance", "irradiance"}) {
+            ASSERT_NE(cd->GetArray(name), nullptr) << name;
+            EXPECT_EQ(cd->GetArray(name)->GetNumberOfTuples(), n);
+            EXPECT_EQ(cd->GetArray(name)->GetNumberOfComponents(), 3);
+        }
+        for (const char* name : {"area", "surface", "luminance"}) {
+            ASSERT_NE(cd->GetArray(name), nullptr) << name;
+            EXPECT_EQ(cd->GetArray(name)->GetNumberOfTuples(), n);
+        }
+        ASSERT_NE(g->GetPointData()->GetArray("radiosity"), nullptr);
+        EXPECT_EQ(g->GetPointData()->GetArray("radiosity")->GetNumberOfTuples(), g->GetNumberOfPoints());
+        EXPECT_EQ(vtkStringArray::SafeDownCast(g->GetFieldData()->GetAbstractArray("solver"))->GetValue(0), "shooting");
+
+        // Energy balance from the file's own numbers, per channel:
+        // emitted = sum E A, absorbed = sum (1 - rho) H A, emitted = absorbed + escaped + unshot,
+        // and every patch satisfies B = E + rho H.
+        auto* B = cd->GetArray("radiosity");
+        auto* E = cd->GetArray("emission");
+        auto* R = cd->GetArray("reflectance");
+        auto* H = cd->GetArray("irradiance");
+        auto* A = cd->GetArray("area");
+        for (int c = 0; c < 3; ++c) {
+            double emitted = 0, absorbed = 0, worst = 0;
+            for (vtkIdType i = 0; i < n; ++i) {
+                const double a = A->GetTuple1(i);
+                emitted += E->GetComponent(i, c) * a;
+                absorbed += (1 - R->GetComponent(i, c)) * H->GetComponent(i, c) * a;
+                const double b = E->GetComponent(i, c) + R->GetComponent(i, c) * H->GetComponent(i, c);
+                worst = std::max(worst, std::abs(B->GetComponent(i, c) - b) / std::max(b, 1e-300));
+            }
+            EXPECT_LT(worst, 1e-12);
+            EXPECT_NEAR(emitted / field(g, "emitted_power", c), 1.0, 1e-12);
+            EXPECT_NEAR(absorbed / field(g, "absorbed_power", c), 1.0, 1e-9);
+            const double balance = field(g, "absorbed_power", c) + field(g, "escaped_power", c) +
+                                   field(g, "unshot_power", c);
+            EXPECT_NEAR(balance / emitted, 1.0, 1e-9);
+        }
+        EXPECT_EQ(field(g, "converged"), 1.0);
+        EXPECT_LT(field(g, "unshot_fraction"), 1e-3);
+    }
+}
+
+TEST(VtuWriter, RedAndGreenWallsTintTheWhiteSurfacesNearThem) {
+    // Colour bleeding: white floor and ceiling patches near the red wall (x ~ 550) are redder
+    // (higher R/G) than those near the green wall (x = 0), and the converse for green.
+    const auto& s = cornell();
+    const auto& P = s.mesh.patches();
+    double near_red[3] = {}, near_green[3] = {};
+    for (std::size_t i = 0; i < P.size(); ++i) {
+        if (!(P[i].reflectance == Rgb(0.725, 0.71, 0.68)) || std::abs(P[i].normal.y) < 0.9) continue;
+        auto* acc = P[i].centre.x > 450 ? near_red : (P[i].centre.x < 100 ? near_green : nullptr);
+        if (!acc) continue;
+        for (int c = 0; c < 3; ++c) acc[c] += s.result.radiosity[i][c] * P[i].area;
+    }
+    EXPECT_GT(near_red[0] / near_red[1], 1.1 * near_green[0] / near_green[1]);
+    EXPECT_GT(near_green[1] / near_green[0], 1.1 * near_red[1] / near_red[0]);
+}
+
+TEST(VtuWriter, AFailedWriteLeavesNoFile) {
+    test::TempDir dir;
+    const auto& s = cornell();
+    const auto target = dir / "missing-dir" / "x.vtu";
+    EXPECT_THROW(write_vtu(target, s.mesh, s.result, {"cornell", ""}), std::runtime_error);
+    EXPECT_FALSE(std::filesystem::exists(target));
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
