@@ -18,7 +18,10 @@ struct FormFactorOptions {
     int visibility_rays = 4;          // rays per patch pair for the visible fraction (stratified)
     double receiver_sampling = 4.0;   // receiver points per side = ceil(this * size / distance)
     int max_receiver_samples = 16;    // cap on points per side of a receiver
+    int receiver_samples = 0;         // fixed points per side of a receiver; 0: adaptive (above)
     std::uint64_t seed = 1;           // rays depend only on (seed, i, j): thread-count independent
+    int hemicube_resolution = 256;    // pixels per side of the hemicube's top face (even)
+    bool hemicube_jitter = false;     // rotate each hemicube randomly about the normal (seeded)
 };
 
 /// Computes rows of the form-factor matrix. F_ij is the fraction of power leaving patch i
@@ -34,7 +37,8 @@ public:
 };
 
 /// The methods by name: "raycast" (exact point-to-polygon kernel at receiver points times a
-/// ray-traced visible fraction) and "analytic" (the same kernel, no occlusion). Throws
+/// ray-traced visible fraction), "analytic" (the same kernel, no occlusion) and "hemicube"
+/// (item buffer at the shooter's centre; visibility comes from its depth test). Throws
 /// std::invalid_argument on an unknown name, listing the valid ones. `visibility` must
 /// outlive the estimator; it may be null for "analytic".
 std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::string& method,

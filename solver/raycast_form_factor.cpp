@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 
+#include "solver/hemicube_form_factor.h"
 #include "solver/patch_sampling.h"
 #include "solver/point_polygon_form_factor.h"
 #include "solver/visibility.h"
@@ -79,7 +80,9 @@ double RaycastFormFactor::pair(std::size_t i, std::size_t j) const {
     if (wholly_behind(s, r) || wholly_behind(r, s)) return 0.0;
     const double dist = glm::length(r.centre - s.centre);
     const double want = std::ceil(m_options.receiver_sampling * patch_size(r) / std::max(dist, 1e-300));
-    const int n = int(std::clamp(want, 1.0, double(m_options.max_receiver_samples)));
+    const int n = m_options.receiver_samples > 0
+                      ? m_options.receiver_samples
+                      : int(std::clamp(want, 1.0, double(m_options.max_receiver_samples)));
     thread_local std::vector<AreaSample> samples;
     patch_quadrature(r, n, samples);
     double fji = 0.0;
@@ -95,7 +98,7 @@ void RaycastFormFactor::compute_row(std::size_t i, std::span<float> row) const {
     });
 }
 
-std::vector<std::string> form_factor_methods() { return {"raycast", "analytic"}; }
+std::vector<std::string> form_factor_methods() { return {"raycast", "analytic", "hemicube"}; }
 
 std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::string& method,
                                                                 const std::vector<Patch>& patches,
@@ -106,6 +109,7 @@ std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::strin
         return std::make_unique<RaycastFormFactor>(patches, visibility, options);
     }
     if (method == "analytic") return std::make_unique<RaycastFormFactor>(patches, nullptr, options);
+    if (method == "hemicube") return std::make_unique<HemicubeFormFactor>(patches, options);
     std::string valid;
     for (const auto& m : form_factor_methods()) valid += (valid.empty() ? "" : ", ") + m;
     throw std::invalid_argument("unknown form-factor method '" + method + "' (valid: " + valid + ")");

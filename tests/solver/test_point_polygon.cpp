@@ -5,7 +5,7 @@
 #include <numbers>
 #include <vector>
 
-#include "analytic_references.h"
+#include "solver/reference_form_factors.h"
 #include "solver/point_polygon_form_factor.h"
 
 using namespace bounce;
@@ -69,19 +69,19 @@ double area_to_polygon(V origin, V eu, V ev, V normal, const std::vector<V>& pol
 }  // namespace
 
 TEST(AnalyticReferences, ReproduceTheValidationTables) {
-    EXPECT_NEAR(test::parallel_rectangles(1, 1, 1), 0.199824896, 1e-9);
-    EXPECT_NEAR(test::parallel_rectangles(2, 1, 1), 0.285875385, 1e-9);
-    EXPECT_NEAR(test::parallel_rectangles(1, 1, 0.5), 0.415253284, 1e-9);
-    EXPECT_NEAR(test::parallel_rectangles(1, 1, 2), 0.068589589, 1e-9);
-    EXPECT_NEAR(test::parallel_rectangles(1, 1, 0.01), 0.980416603, 1e-9);
-    EXPECT_NEAR(test::parallel_rectangles(1, 1, 0.001), 0.998005632, 1e-9);
-    EXPECT_NEAR(test::perpendicular_rectangles(1, 1, 1), 0.200043776, 1e-9);
-    EXPECT_NEAR(test::perpendicular_rectangles(2, 1, 1), 0.232852603, 1e-9);
-    EXPECT_NEAR(test::perpendicular_rectangles(1, 2, 1), 0.116426301, 1e-9);
-    EXPECT_NEAR(test::perpendicular_rectangles(1, 1, 0.5), 0.149299796, 1e-9);
-    EXPECT_NEAR(test::coaxial_disks(1, 1, 1), 0.381966011, 1e-9);
-    EXPECT_NEAR(test::coaxial_disks(0.5, 1, 1), 0.468871126, 1e-9);
-    EXPECT_NEAR(test::coaxial_disks(1, 2, 0.5), 0.924816186, 1e-9);
+    EXPECT_NEAR(parallel_rectangles(1, 1, 1), 0.199824896, 1e-9);
+    EXPECT_NEAR(parallel_rectangles(2, 1, 1), 0.285875385, 1e-9);
+    EXPECT_NEAR(parallel_rectangles(1, 1, 0.5), 0.415253284, 1e-9);
+    EXPECT_NEAR(parallel_rectangles(1, 1, 2), 0.068589589, 1e-9);
+    EXPECT_NEAR(parallel_rectangles(1, 1, 0.01), 0.980416603, 1e-9);
+    EXPECT_NEAR(parallel_rectangles(1, 1, 0.001), 0.998005632, 1e-9);
+    EXPECT_NEAR(perpendicular_rectangles(1, 1, 1), 0.200043776, 1e-9);
+    EXPECT_NEAR(perpendicular_rectangles(2, 1, 1), 0.232852603, 1e-9);
+    EXPECT_NEAR(perpendicular_rectangles(1, 2, 1), 0.116426301, 1e-9);
+    EXPECT_NEAR(perpendicular_rectangles(1, 1, 0.5), 0.149299796, 1e-9);
+    EXPECT_NEAR(coaxial_disks(1, 1, 1), 0.381966011, 1e-9);
+    EXPECT_NEAR(coaxial_disks(0.5, 1, 1), 0.468871126, 1e-9);
+    EXPECT_NEAR(coaxial_disks(1, 2, 0.5), 0.924816186, 1e-9);
 }
 
 TEST(PointPolygon, DiskAboveAPointIsRSquaredOverRSquaredPlusHSquared) {
@@ -102,7 +102,7 @@ TEST(PointPolygon, DiskAboveAPointIsRSquaredOverRSquaredPlusHSquared) {
 TEST(PointPolygon, PointBelowARectangleCornerMatchesTheClosedForm) {
     for (auto [a, b, c] : {std::tuple{1.0, 1.0, 1.0}, {2.0, 0.5, 0.3}, {0.1, 3.0, 2.0}}) {
         const std::vector<V> rect = {{0, 0, c}, {0, b, c}, {a, b, c}, {a, 0, c}};
-        EXPECT_NEAR(point_polygon_form_factor({0, 0, 0}, {0, 0, 1}, rect), test::point_to_rectangle_corner(a, b, c),
+        EXPECT_NEAR(point_polygon_form_factor({0, 0, 0}, {0, 0, 1}, rect), point_to_rectangle_corner(a, b, c),
                     1e-12);
     }
 }
@@ -122,7 +122,7 @@ TEST(PointPolygon, IntegratedOverTheReceiverGivesTheParallelTable) {
     for (auto [a, b, c] : {std::tuple{1.0, 1.0, 1.0}, {2.0, 1.0, 1.0}, {1.0, 1.0, 0.5}, {1.0, 1.0, 2.0}}) {
         const std::vector<V> top = {{0, 0, c}, {0, b, c}, {a, b, c}, {a, 0, c}};
         const double f = area_to_polygon({0, 0, 0}, {a, 0, 0}, {0, b, 0}, {0, 0, 1}, top);
-        EXPECT_NEAR(f, test::parallel_rectangles(a, b, c), 1e-9) << a << " " << b << " " << c;
+        EXPECT_NEAR(f, parallel_rectangles(a, b, c), 1e-9) << a << " " << b << " " << c;
     }
 }
 
@@ -131,6 +131,6 @@ TEST(PointPolygon, IntegratedOverTheReceiverGivesThePerpendicularTable) {
         // From rectangle 1 (w x l in z = 0) to rectangle 2 (h x l in x = 0), common edge on y.
         const std::vector<V> two = {{0, 0, 0}, {0, l, 0}, {0, l, h}, {0, 0, h}};
         const double f = area_to_polygon({0, 0, 0}, {w, 0, 0}, {0, l, 0}, {0, 0, 1}, two);
-        EXPECT_NEAR(f, test::perpendicular_rectangles(h, w, l), 1e-9) << h << " " << w << " " << l;
+        EXPECT_NEAR(f, perpendicular_rectangles(h, w, l), 1e-9) << h << " " << w << " " << l;
     }
 }

@@ -5,7 +5,7 @@
 
 #include "mesh/cornell_box.h"
 #include "mesh/patch_mesh.h"
-#include "scene_builders.h"
+#include "mesh/validation_scenes.h"
 #include "solver/form_factor_estimator.h"
 #include "solver/shooting_solver.h"
 #include "solver/visibility.h"
@@ -16,7 +16,7 @@ TEST(ShootingSolver, FurnaceGivesEOverOneMinusRho) {
     for (double rho : {0.5, 0.9}) {
         MeshingOptions o;
         o.max_edge = 0.25;
-        const PatchMesh mesh(test::closed_box({1, 1, 1}, {"w", Rgb::gray(rho), Rgb(1, 2, 3)}), o);
+        const PatchMesh mesh(closed_box({1, 1, 1}, {"w", Rgb::gray(rho), Rgb(1, 2, 3)}), o);
         const auto vis = make_cgal_visibility(mesh.patches());
         const auto ff = make_form_factor_estimator("raycast", mesh.patches(), vis.get(), {});
         ShootingOptions so;
@@ -68,7 +68,7 @@ TEST(ShootingSolver, StopsAtMaxShotsAndSaysItDidNotConverge) {
 }
 
 TEST(ShootingSolver, ASceneWithoutLightIsRefused) {
-    const PatchMesh mesh(test::closed_box({1, 1, 1}, {"w", Rgb::gray(0.5), Rgb()}), MeshingOptions{.subdivide = false});
+    const PatchMesh mesh(closed_box({1, 1, 1}, {"w", Rgb::gray(0.5), Rgb()}), MeshingOptions{.subdivide = false});
     const auto ff = make_form_factor_estimator("analytic", mesh.patches(), nullptr, {});
     EXPECT_THROW(ShootingSolver(mesh.patches(), *ff, {}).solve(), std::invalid_argument);
 }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Small scenes for solver tests, built in code.
+// The validation cases with known answers, as scenes built in code: plate pairs, coaxial
+// disks, closed boxes.
 #pragma once
 
 #include <vector>
@@ -8,9 +9,10 @@
 
 #include "mesh/scene.h"
 
-namespace bounce::test {
+#include <cmath>
+#include <numbers>
 
-using V = glm::dvec3;
+namespace bounce {
 
 /// Two directly opposed a x b rectangles at distance c: the lower (z = 0) faces up, the upper
 /// faces down. Surface 0 is the lower one.
@@ -34,13 +36,32 @@ inline Scene perpendicular_pair(double h, double w, double l) {
     return s;
 }
 
+/// Coaxial parallel disks as regular n-gons of the disks' areas (the shape error is
+/// O(1/n^2) and area-matched): the emitter (radius r1, z = 0, facing +z) is surface 0, the
+/// receiver (radius r2, z = h, facing -z) surface 1.
+inline Scene coaxial_disks_scene(double r1, double r2, double h, int n = 96) {
+    Scene s;
+    s.name = "coaxial disks";
+    s.materials = {{"m", Rgb::gray(0.5), Rgb()}, {"lamp", Rgb(), Rgb::gray(1.0)}};
+    const double pi = std::numbers::pi, stretch = std::sqrt(2 * pi / (n * std::sin(2 * pi / n)));
+    std::vector<glm::dvec3> lower, upper;
+    for (int k = 0; k < n; ++k) {
+        const double t = 2 * pi * k / n;
+        lower.emplace_back(r1 * stretch * std::cos(t), r1 * stretch * std::sin(t), 0.0);
+        upper.emplace_back(r2 * stretch * std::cos(-t), r2 * stretch * std::sin(-t), h);
+    }
+    s.surfaces.push_back({lower, 1, "emitter", {"coaxial disks", 0}});
+    s.surfaces.push_back({upper, 0, "receiver", {"coaxial disks", 0}});
+    return s;
+}
+
 /// A closed box [0,sx]x[0,sy]x[0,sz] facing inwards, every wall with material 0.
-inline Scene closed_box(V size, Material m) {
+inline Scene closed_box(glm::dvec3 size, Material m) {
     Scene s;
     s.name = "closed box";
     s.materials = {m};
     const double x = size.x, y = size.y, z = size.z;
-    const std::vector<std::vector<V>> faces = {
+    const std::vector<std::vector<glm::dvec3>> faces = {
         {{0, 0, 0}, {x, 0, 0}, {x, y, 0}, {0, y, 0}},  // z = 0, facing +z
         {{0, 0, z}, {0, y, z}, {x, y, z}, {x, 0, z}},  // z = sz, facing -z
         {{0, 0, 0}, {0, y, 0}, {0, y, z}, {0, 0, z}},  // x = 0, facing +x
@@ -52,4 +73,4 @@ inline Scene closed_box(V size, Material m) {
     return s;
 }
 
-}  // namespace bounce::test
+}  // namespace bounce

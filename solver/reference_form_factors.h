@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Closed-form form factors from shared/VALIDATION.md (Howell's catalog), used as references.
+// Closed-form form factors (Howell's catalog of configuration factors), the references that
+// tests and the accuracy example measure every method against.
 #pragma once
 
 #include <cmath>
 #include <numbers>
 
-namespace bounce::test {
+namespace bounce {
 
 /// Parallel, directly opposed, identical a x b rectangles at distance c.
 inline double parallel_rectangles(double a, double b, double c) {
@@ -44,4 +45,4 @@ inline double point_to_rectangle_corner(double a, double b, double c) {
             B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B)));
 }
 
-}  // namespace bounce::test
+}  // namespace bounce

@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+#include "solver/form_factor_matrix.h"
+
+#include <chrono>
+#include <span>
+
+#include <tbb/parallel_for.h>
+
+namespace bounce {
+
+FormFactorMatrix FormFactorMatrix::build(const FormFactorEstimator& estimator, std::size_t n, std::size_t max_bytes) {
+    const std::size_t need = bytes_for(n);
+    if (n != 0 && (need / n / sizeof(float) != n || need > max_bytes))
+        throw ResourceLimitError("form-factor matrix of " + std::to_string(n) + " patches needs " +
+                                 std::to_string((need + (1u << 20) - 1) >> 20) + " MB, over the limit of " +
+                                 std::to_string(max_bytes >> 20) + " MB (--max-matrix-mb)");
+    const auto start = std::chrono::steady_clock::now();
+    FormFactorMatrix m;
+    m.m_n = n;
+    m.m_f.resize(n * n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+            estimator.compute_row(i, std::span<float>(m.m_f.data() + i * n, n));
+    });
+    m.m_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return m;
+}
+
+}  // namespace bounce

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "solver/form_factor_estimator.h"
+
+namespace bounce {
+
+/// A request for more memory than the user allowed; the CLI exits with code 2.
+class ResourceLimitError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// The full form-factor matrix, dense, float storage (row-major, F(i, j) = F_ij). For the
+/// gathering solvers (Jacobi, Gauss-Seidel), which need every row every sweep.
+class FormFactorMatrix {
+public:
+    /// Bytes a matrix of n patches needs (n^2 floats).
+    static std::size_t bytes_for(std::size_t n) { return n * n * sizeof(float); }
+
+    /// Builds every row, in parallel over rows on all cores. Checks the memory first: throws
+    /// ResourceLimitError naming the size, before allocating, when it exceeds max_bytes.
+    static FormFactorMatrix build(const FormFactorEstimator& estimator, std::size_t n, std::size_t max_bytes);
+
+    std::size_t size() const { return m_n; }
+    float operator()(std::size_t i, std::size_t j) const { return m_f[i * m_n + j]; }
+    const float* row(std::size_t i) const { return m_f.data() + i * m_n; }
+    double seconds() const { return m_seconds; }  // time to build
+
+private:
+    std::size_t m_n = 0;
+    std::vector<float> m_f;
+    double m_seconds = 0.0;
+};
+
+}  // namespace bounce
