@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -17,6 +18,7 @@
 #include "mesh/patch_mesh.h"
 #include "mesh/scene_loader.h"
 #include "solver/form_factor_estimator.h"
+#include "solver/form_factor_matrix.h"
 #include "solver/shooting_solver.h"
 #include "solver/visibility.h"
 #include "viewer/version.h"
@@ -44,6 +46,17 @@ void add_meshing_options(CLI::App* cmd, CommonOptions& o) {
                   "one patch per input face");
     cmd->add_flag("-q,--quiet", o.quiet, "no progress line, no warnings");
     cmd->add_option("--threads", o.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+}
+
+void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
+    cmd->add_option("--rays", f.visibility_rays, "visibility rays per patch pair (raycast)")->check(CLI::Range(1, 4096));
+    cmd->add_option("--receiver-samples", f.receiver_samples,
+                    "points per side of each receiver (raycast); 0: adaptive")
+        ->check(CLI::Range(0, 16));
+    cmd->add_option("--hemicube-res", f.hemicube_resolution, "hemicube pixels per side (even)")
+        ->check(CLI::Range(2, 4096));
+    cmd->add_flag("--hemicube-jitter", f.hemicube_jitter, "rotate each hemicube randomly about the normal");
+    cmd->add_option("--seed", f.seed, "seed of the rays and rotations");
 }
 
 void print_warnings(const Scene& scene, bool quiet) {
@@ -103,6 +116,75 @@ struct SolveCommand {
     bool ascii = false;
 };
 
+struct FormFactorCommand {
+    std::string output;
+    std::string method = "raycast";
+    FormFactorOptions ff;
+    bool check = false;
+    std::size_t max_matrix_mb = 2048;
+};
+
+/// Builds the whole matrix, writes "i,j,F_ij,row_sum_i" for its non-zero entries and, with
+/// --check, prints row sums and the reciprocity error max |A_i F_ij - A_j F_ji| / (A_i F_ij).
+int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
+    Scene scene = load_scene(o.scene);
+    print_warnings(scene, o.quiet);
+    PatchMesh mesh(scene, o.meshing);
+    const auto& P = mesh.patches();
+    const std::size_t n = P.size();
+    // Refuse before anything large is built.
+    if (FormFactorMatrix::bytes_for(n) > (c.max_matrix_mb << 20))
+        throw ResourceLimitError("form-factor matrix of " + std::to_string(n) + " patches needs " +
+                                 std::to_string((FormFactorMatrix::bytes_for(n) + (1u << 20) - 1) >> 20) +
+                                 " MB, over the limit of " + std::to_string(c.max_matrix_mb) + " MB (--max-matrix-mb)");
+    const auto visibility = make_cgal_visibility(P);
+    const auto ff = make_form_factor_estimator(c.method, P, visibility.get(), c.ff);
+    const auto F = FormFactorMatrix::build(*ff, n, c.max_matrix_mb << 20);
+    std::vector<double> sums(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j) sums[i] += F(i, j);
+    if (!c.output.empty()) {
+        const std::filesystem::path out = c.output, tmp = out.string() + ".tmp";
+        {
+            std::ofstream csv(tmp);
+            if (!csv) throw InputError(out.string() + ": cannot write");
+            csv << "i,j,F_ij,row_sum_i\n";
+            csv.precision(9);
+            for (std::size_t i = 0; i < n; ++i)
+                for (std::size_t j = 0; j < n; ++j)
+                    if (F(i, j) != 0.0f) csv << i << ',' << j << ',' << F(i, j) << ',' << sums[i] << '\n';
+            if (!csv.flush()) {
+                std::filesystem::remove(tmp);
+                throw std::runtime_error(out.string() + ": write failed");
+            }
+        }
+        std::filesystem::rename(tmp, out);
+    }
+    if (!o.quiet || c.check) {
+        std::cout << "patches " << n << ", method " << c.method << ", " << F.seconds() << " s ("
+                  << 1e3 * F.seconds() / double(std::max<std::size_t>(n, 1)) << " ms per row)\n";
+    }
+    if (c.check) {
+        double lo = 1e300, hi = -1e300, mean = 0, recip = 0, diff = 0, total = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            lo = std::min(lo, sums[i]);
+            hi = std::max(hi, sums[i]);
+            mean += sums[i] / double(n);
+            for (std::size_t j = 0; j < n; ++j) {
+                const double aij = P[i].area * F(i, j), aji = P[j].area * F(j, i);
+                diff += std::abs(aij - aji);
+                total += aij;
+                if (F(i, j) >= 1e-3) recip = std::max(recip, std::abs(aij - aji) / aij);
+            }
+        }
+        std::cout << "row sums: min " << lo << ", mean " << mean << ", max " << hi << "\n"
+                  << "reciprocity |A_i F_ij - A_j F_ji| / (A_i F_ij): max " << recip
+                  << " (over F_ij >= 1e-3); overall sum|A_i F_ij - A_j F_ji| / sum A_i F_ij = "
+                  << (total > 0 ? diff / total : 0.0) << "\n";
+    }
+    return 0;
+}
+
 int run_solve(const CommonOptions& o, const SolveCommand& s) {
     const std::filesystem::path out = s.output.empty() ? default_output(o.scene) : s.output;
     // Refuse an unwritable destination before any work is done.
@@ -154,12 +236,20 @@ int main(int argc, char** argv) {
     solve_cmd->add_option("--tolerance", solve.tolerance, "stop at this unshot fraction")
         ->check(CLI::PositiveNumber);
     solve_cmd->add_option("--max-shots", solve.max_shots, "stop after this many shots (default 100 N)");
-    solve_cmd->add_option("--form-factors", solve.method, "raycast (with visibility) or analytic (no occlusion)")
+    solve_cmd->add_option("--form-factors", solve.method, "raycast, hemicube, or analytic (no occlusion)")
         ->check(CLI::IsMember(bounce::form_factor_methods()));
-    solve_cmd->add_option("--rays", solve.ff.visibility_rays, "visibility rays per patch pair")
-        ->check(CLI::Range(1, 4096));
-    solve_cmd->add_option("--seed", solve.ff.seed, "seed of the visibility rays");
+    add_form_factor_options(solve_cmd, solve.ff);
     solve_cmd->add_flag("--ascii", solve.ascii, "write ASCII instead of compressed binary");
+
+    FormFactorCommand ffc;
+    auto* ff_cmd = app.add_subcommand("form-factors", "compute the whole form-factor matrix and check it");
+    add_meshing_options(ff_cmd, common);
+    ff_cmd->add_option("--method", ffc.method, "raycast, analytic or hemicube")
+        ->check(CLI::IsMember(bounce::form_factor_methods()));
+    ff_cmd->add_option("-o,--output", ffc.output, "CSV of i,j,F_ij,row_sum_i for non-zero entries");
+    ff_cmd->add_flag("--check", ffc.check, "print row sums and the reciprocity error");
+    ff_cmd->add_option("--max-matrix-mb", ffc.max_matrix_mb, "refuse a matrix larger than this (MB)");
+    add_form_factor_options(ff_cmd, ffc.ff);
 
     auto* info_cmd = app.add_subcommand("info", "print the scene's surfaces, patches, area and emitted power");
     add_meshing_options(info_cmd, common);
@@ -176,8 +266,12 @@ int main(int argc, char** argv) {
         threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(common.threads));
     try {
         if (*solve_cmd) return run_solve(common, solve);
+        if (*ff_cmd) return run_form_factors(common, ffc);
         return run_info(common);
     } catch (const bounce::InputError& e) {
+        std::cerr << "bounce: error: " << e.what() << "\n";
+        return 2;
+    } catch (const bounce::ResourceLimitError& e) {
         std::cerr << "bounce: error: " << e.what() << "\n";
         return 2;
     } catch (const std::invalid_argument& e) {

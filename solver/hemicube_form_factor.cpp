@@ -105,6 +105,9 @@ void HemicubeFormFactor::compute_row(std::size_t i, std::span<float> row) const 
                 y0 = std::min(y0, Y[k]); y1 = std::max(y1, Y[k]);
             }
             if (x1 < -1 || x0 > 1 || y1 < face.ylo || y0 > 1) continue;
+            // Vertices near the eye's plane project far out; clamp before converting to int.
+            x0 = std::max(x0, -2.0); x1 = std::min(x1, 2.0);
+            y0 = std::max(y0, -2.0); y1 = std::min(y1, 2.0);
             // Pixel range whose centres fall in the bounding box.
             const int ax0 = std::max(0, int(std::ceil((x0 + 1) / h - 0.5)));
             const int ax1 = std::min(r - 1, int(std::floor((x1 + 1) / h - 0.5)));

@@ -2,6 +2,7 @@
 #include "solver/raycast_form_factor.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -84,10 +85,37 @@ double RaycastFormFactor::pair(std::size_t i, std::size_t j) const {
                       ? m_options.receiver_samples
                       : int(std::clamp(want, 1.0, double(m_options.max_receiver_samples)));
     thread_local std::vector<AreaSample> samples;
-    patch_quadrature(r, n, samples);
     double fji = 0.0;
-    for (const auto& q : samples)
-        if (height(s, q.point) > 0) fji += q.weight * point_polygon_form_factor(q.point, r.normal, s.polygon());
+    bool straddles = false;
+    const double below = -1e-9 * std::sqrt(r.area);  // rounding: a vertex on the plane is not below it
+    for (int k = 0; k < r.vertex_count; ++k) straddles |= height(s, r.vertices[k]) < below;
+    if (!straddles) {
+        patch_quadrature(r, n, samples);
+        for (const auto& q : samples) fji += q.weight * point_polygon_form_factor(q.point, r.normal, s.polygon());
+    } else {
+        // Only the part of the receiver in front of the shooter receives. Integrating the
+        // cut-off kernel over the whole patch would put a jump inside the quadrature (error
+        // O(1/n)); clip the receiver to the shooter's front half-space and integrate the
+        // clipped polygon's triangles instead.
+        std::array<glm::dvec3, 5> clip;
+        int m = 0;
+        for (int k = 0; k < r.vertex_count; ++k) {
+            const glm::dvec3 &a = r.vertices[k], &b = r.vertices[(k + 1) % r.vertex_count];
+            const double ha = height(s, a), hb = height(s, b);
+            if (ha > 0) clip[m++] = a;
+            if ((ha > 0) != (hb > 0)) clip[m++] = a + (ha / (ha - hb)) * (b - a);
+        }
+        for (int k = 1; k + 1 < m; ++k) {
+            Patch t;
+            t.vertex_count = 3;
+            t.vertices = {clip[0], clip[k], clip[k + 1], glm::dvec3(0.0)};
+            t.centre = (clip[0] + clip[k] + clip[k + 1]) / 3.0;
+            const double share = 0.5 * glm::length(glm::cross(clip[k] - clip[0], clip[k + 1] - clip[0])) / r.area;
+            patch_quadrature(t, n, samples);
+            for (const auto& q : samples)
+                fji += share * q.weight * point_polygon_form_factor(q.point, r.normal, s.polygon());
+        }
+    }
     if (fji <= 0.0) return 0.0;
     return fji * visible_fraction(i, j) * r.area / s.area;
 }
