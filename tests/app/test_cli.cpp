@@ -132,3 +132,43 @@ TEST(Cli, BadInputGivesOneLineExitTwoAndNoOutput) {
     EXPECT_EQ(nodir.exit_code, 2);
     EXPECT_NE(nodir.err.find("does not exist"), std::string::npos);
 }
+
+TEST(Cli, FormFactorsWritesTheMatrixAndChecksIt) {
+    test::TempDir dir;
+    // A closed, inward-facing unit box: every row must sum to 1.
+    const auto scene = dir.write("box.json", R"({"materials": {"w": {"reflectance": 0.5, "emission": 1}},
+        "objects": [{"type": "box", "material": "w", "inward": true}]})");
+    const auto csv = dir / "F.csv";
+    const auto r = bounce_run("form-factors " + scene.string() + " --max-edge 0.5 --method raycast --check -o " +
+                              csv.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("row sums"), std::string::npos);
+    EXPECT_NE(r.out.find("reciprocity"), std::string::npos);
+    // Read the CSV back: 24 patches, each row's F_ij add up to its stated sum, which is ~1.
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "i,j,F_ij,row_sum_i");
+    std::vector<double> sums(24, 0.0), stated(24, -1.0);
+    while (std::getline(in, line)) {
+        int i, j;
+        double f, s;
+        ASSERT_EQ(std::sscanf(line.c_str(), "%d,%d,%lf,%lf", &i, &j, &f, &s), 4) << line;
+        ASSERT_LT(i, 24);
+        EXPECT_NE(i, j);
+        sums[i] += f;
+        stated[i] = s;
+    }
+    for (int i = 0; i < 24; ++i) {
+        EXPECT_NEAR(sums[i], stated[i], 1e-5);
+        EXPECT_NEAR(sums[i], 1.0, 5e-3);
+    }
+}
+
+TEST(Cli, ATooLargeMatrixIsRefusedWithExitTwo) {
+    test::TempDir dir;
+    const auto r = bounce_run("form-factors --max-area 50 --max-matrix-mb 64 -o " + (dir / "F.csv").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("MB, over the limit of 64 MB"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "F.csv"));
+}
