@@ -19,7 +19,8 @@
 #include "mesh/scene_loader.h"
 #include "solver/form_factor_estimator.h"
 #include "solver/form_factor_matrix.h"
-#include "solver/shooting_solver.h"
+#include "solver/convergence.h"
+#include "solver/solver.h"
 #include "solver/visibility.h"
 #include "viewer/version.h"
 #include "viewer/vtu_writer.h"
@@ -109,12 +110,40 @@ int run_info(const CommonOptions& o) {
 
 struct SolveCommand {
     std::string output;
-    double tolerance = 1e-3;
-    std::size_t max_shots = 0;
+    std::string solver = "shooting";
+    SolverOptions options;
     std::string method = "raycast";
     FormFactorOptions ff;
+    std::size_t max_matrix_mb = 2048;
+    std::string log_csv;
     bool ascii = false;
 };
+
+/// Writes a convergence log as CSV: step,seconds,residual,unshot_fraction,rms_error,max_error
+/// (empty where a quantity was not computed), through a temporary file.
+void write_log_csv(const std::filesystem::path& path, const std::vector<SolveResult>& runs,
+                   const std::vector<std::string>& form_factors, const std::vector<double>& ff_seconds) {
+    const std::filesystem::path tmp = path.string() + ".tmp";
+    {
+        std::ofstream out(tmp);
+        if (!out) throw InputError(path.string() + ": cannot write");
+        out << "form_factors,solver,step,seconds,form_factor_seconds,residual,unshot_fraction,rms_error,max_error\n";
+        out.precision(10);
+        auto opt = [&](double v) {
+            if (v < 0) return std::string();
+            std::ostringstream t;
+            t.precision(10);
+            t << v;
+            return t.str();
+        };
+        for (std::size_t k = 0; k < runs.size(); ++k)
+            for (const auto& r : runs[k].log)
+                out << form_factors[k] << ',' << runs[k].solver << ',' << r.step << ',' << r.seconds << ','
+                    << ff_seconds[k] << ',' << opt(r.residual) << ',' << opt(r.unshot_fraction) << ','
+                    << opt(r.rms_error) << ',' << opt(r.max_error) << '\n';
+    }
+    std::filesystem::rename(tmp, path);
+}
 
 struct FormFactorCommand {
     std::string output;
@@ -185,38 +214,65 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
     return 0;
 }
 
-int run_solve(const CommonOptions& o, const SolveCommand& s) {
-    const std::filesystem::path out = s.output.empty() ? default_output(o.scene) : s.output;
-    // Refuse an unwritable destination before any work is done.
+/// Refuses an unwritable destination before any work is done.
+void check_output(const std::filesystem::path& out) {
     const auto dir = out.has_parent_path() ? out.parent_path() : std::filesystem::path(".");
     std::error_code ec;
     if (!std::filesystem::is_directory(dir, ec))
         throw InputError(out.string() + ": output directory " + dir.string() + " does not exist");
     if (std::filesystem::is_directory(out, ec)) throw InputError(out.string() + ": is a directory");
+}
+
+int run_solve(const CommonOptions& o, const SolveCommand& s) {
+    const std::filesystem::path out = s.output.empty() ? default_output(o.scene) : s.output;
+    check_output(out);
+    if (!s.log_csv.empty()) check_output(s.log_csv);
 
     Scene scene = load_scene(o.scene);
     print_warnings(scene, o.quiet);
     PatchMesh mesh(scene, o.meshing);
-    const auto visibility = make_cgal_visibility(mesh.patches());
-    const auto ff = make_form_factor_estimator(s.method, mesh.patches(), visibility.get(), s.ff);
+    const auto& P = mesh.patches();
+    const auto visibility = make_cgal_visibility(P);
+    const auto ff = make_form_factor_estimator(s.method, P, visibility.get(), s.ff);
+    std::optional<FormFactorMatrix> matrix;
+    if (s.solver != "shooting") matrix = FormFactorMatrix::build(*ff, P.size(), s.max_matrix_mb << 20);
+    if (matrix) {
+        const double bound = contraction_bound(P, matrix->row_sums());
+        if (bound >= 1.0 && !o.quiet)
+            std::cerr << "warning: max rho_i * sum_j F_ij = " << bound
+                      << " >= 1: the iteration may not converge (reflectance 1 in a closed scene, or row sums "
+                         "above 1)\n";
+    }
     ProgressLine progress(!o.quiet);
-    ShootingOptions so;
-    so.tolerance = s.tolerance;
-    so.max_shots = s.max_shots;
+    SolverOptions so = s.options;
     so.progress = [&](const SolveProgress& p) { progress.update(p); };
-    const SolveResult res = ShootingSolver(mesh.patches(), *ff, so).solve();
+    so.max_matrix_mb = s.max_matrix_mb;
+    const auto solver = make_solver(s.solver, {P, ff.get(), matrix ? &*matrix : nullptr}, so);
+    SolveResult res = solver->solve();
     progress.finish();
+    res.form_factors = s.method;
+    if (matrix) res.seconds += matrix->seconds();
 
     std::ostringstream settings;
-    settings << "patches=" << mesh.size() << " edge=" << mesh.edge_length() << " method=" << s.method
-             << " rays=" << s.ff.visibility_rays << " receiver_sampling=" << s.ff.receiver_sampling
-             << " seed=" << s.ff.seed << " tolerance=" << s.tolerance;
+    settings << "patches=" << mesh.size() << " edge=" << mesh.edge_length() << " solver=" << s.solver
+             << " sor=" << s.options.sor << " method=" << s.method << " rays=" << s.ff.visibility_rays
+             << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
+             << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance;
     write_vtu(out, mesh, res, {o.scene, settings.str()}, s.ascii);
+    if (!s.log_csv.empty()) write_log_csv(s.log_csv, {res}, {s.method}, {matrix ? matrix->seconds() : 0.0});
     if (!o.quiet) {
-        std::cout << "patches " << mesh.size() << ", shots " << res.steps << ", unshot fraction "
-                  << res.unshot_fraction << (res.converged ? "" : " (NOT converged)") << ", " << res.seconds
-                  << " s\n"
+        std::cout << "patches " << mesh.size() << ", " << s.solver << " " << res.steps
+                  << (s.solver == "shooting" ? " shots" : " sweeps");
+        if (s.solver == "shooting") std::cout << ", unshot fraction " << res.unshot_fraction;
+        if (res.residual >= 0) std::cout << ", residual " << res.residual;
+        std::cout << (res.converged ? "" : " (NOT converged: " + res.status + ")") << ", " << res.seconds << " s\n"
                   << "wrote " << out.string() << "\n";
+    }
+    if (!res.converged && !o.quiet) {
+        std::cerr << "bounce: not converged (" << res.status << "), last "
+                  << (res.residual >= 0 ? "residual " + std::to_string(res.residual)
+                                        : "unshot fraction " + std::to_string(res.unshot_fraction))
+                  << "; the partial solution was written\n";
     }
     return res.converged ? 0 : 3;
 }
@@ -233,9 +289,19 @@ int main(int argc, char** argv) {
     auto* solve_cmd = app.add_subcommand("solve", "compute radiosity and write a .vtu");
     add_meshing_options(solve_cmd, common);
     solve_cmd->add_option("-o,--output", solve.output, "output .vtu (default: <scene>.vtu)");
-    solve_cmd->add_option("--tolerance", solve.tolerance, "stop at this unshot fraction")
+    solve_cmd->add_option("--solver", solve.solver, "shooting, gauss-seidel, jacobi or direct")
+        ->check(CLI::IsMember(bounce::solver_names()));
+    solve_cmd->add_option("--tolerance", solve.options.tolerance,
+                          "stop below this unshot fraction (shooting) or relative residual (others); 1e-3")
         ->check(CLI::PositiveNumber);
-    solve_cmd->add_option("--max-shots", solve.max_shots, "stop after this many shots (default 100 N)");
+    solve_cmd->add_option("--max-shots,--max-iterations", solve.options.max_iterations,
+                          "stop after this many shots or sweeps (default 100 N shots, 10000 sweeps)");
+    solve_cmd->add_option("--max-seconds", solve.options.max_seconds, "stop after this many seconds")
+        ->check(CLI::NonNegativeNumber);
+    solve_cmd->add_option("--sor", solve.options.sor, "over-relaxation factor for jacobi and gauss-seidel, (0,2)")
+        ->check(CLI::Range(0.0, 2.0));
+    solve_cmd->add_option("--log", solve.log_csv, "write the convergence log (CSV)");
+    solve_cmd->add_option("--max-matrix-mb", solve.max_matrix_mb, "refuse a matrix larger than this (MB)");
     solve_cmd->add_option("--form-factors", solve.method, "raycast, hemicube, or analytic (no occlusion)")
         ->check(CLI::IsMember(bounce::form_factor_methods()));
     add_form_factor_options(solve_cmd, solve.ff);
@@ -269,6 +335,9 @@ int main(int argc, char** argv) {
         if (*ff_cmd) return run_form_factors(common, ffc);
         return run_info(common);
     } catch (const bounce::InputError& e) {
+        std::cerr << "bounce: error: " << e.what() << "\n";
+        return 2;
+    } catch (const bounce::SingularSystemError& e) {
         std::cerr << "bounce: error: " << e.what() << "\n";
         return 2;
     } catch (const bounce::ResourceLimitError& e) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "solver/form_factor_matrix.h"
 
+#include <algorithm>
 #include <chrono>
 #include <span>
 
@@ -24,6 +25,29 @@ FormFactorMatrix FormFactorMatrix::build(const FormFactorEstimator& estimator, s
     });
     m.m_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return m;
+}
+
+FormFactorMatrix FormFactorMatrix::from_values(std::size_t n, std::vector<float> values) {
+    if (values.size() != n * n) throw std::invalid_argument("form-factor matrix: need n*n values");
+    FormFactorMatrix m;
+    m.m_n = n;
+    m.m_f = std::move(values);
+    return m;
+}
+
+std::vector<double> FormFactorMatrix::row_sums() const {
+    std::vector<double> s(m_n, 0.0);
+    for (std::size_t i = 0; i < m_n; ++i)
+        for (std::size_t j = 0; j < m_n; ++j) s[i] += m_f[i * m_n + j];
+    return s;
+}
+
+MatrixFormFactor::MatrixFormFactor(const FormFactorMatrix& matrix, std::string method)
+    : m_matrix(matrix), m_method(std::move(method)) {}
+
+void MatrixFormFactor::compute_row(std::size_t i, std::span<float> row) const {
+    const float* r = m_matrix.row(i);
+    std::copy(r, r + m_matrix.size(), row.begin());
 }
 
 }  // namespace bounce

@@ -27,7 +27,12 @@ public:
     /// ResourceLimitError naming the size, before allocating, when it exceeds max_bytes.
     static FormFactorMatrix build(const FormFactorEstimator& estimator, std::size_t n, std::size_t max_bytes);
 
+    /// A matrix from given values (row-major n x n), e.g. an exactly stochastic test system.
+    static FormFactorMatrix from_values(std::size_t n, std::vector<float> values);
+
     std::size_t size() const { return m_n; }
+    /// sum_j F_ij, accumulated in double.
+    std::vector<double> row_sums() const;
     float operator()(std::size_t i, std::size_t j) const { return m_f[i * m_n + j]; }
     const float* row(std::size_t i) const { return m_f.data() + i * m_n; }
     double seconds() const { return m_seconds; }  // time to build
@@ -36,6 +41,19 @@ private:
     std::size_t m_n = 0;
     std::vector<float> m_f;
     double m_seconds = 0.0;
+};
+
+/// Rows read from a built matrix, so shooting and the gathering solvers work on the very
+/// same F when they are compared.
+class MatrixFormFactor final : public FormFactorEstimator {
+public:
+    MatrixFormFactor(const FormFactorMatrix& matrix, std::string method);
+    std::string name() const override { return m_method; }
+    void compute_row(std::size_t i, std::span<float> row) const override;
+
+private:
+    const FormFactorMatrix& m_matrix;
+    std::string m_method;
 };
 
 }  // namespace bounce

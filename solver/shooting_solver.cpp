@@ -1,16 +1,20 @@
 // SPDX-License-Identifier: MIT
 #include "solver/shooting_solver.h"
 
+#include <algorithm>
+
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
 
+#include "solver/convergence.h"
+
 namespace bounce {
 
 ShootingSolver::ShootingSolver(const std::vector<Patch>& patches, const FormFactorEstimator& form_factors,
-                               const ShootingOptions& options)
-    : m_patches(patches), m_ff(form_factors), m_options(options) {}
+                               const SolverOptions& options, const FormFactorMatrix* matrix)
+    : m_patches(patches), m_ff(form_factors), m_options(options), m_matrix(matrix) {}
 
 SolveResult ShootingSolver::solve() {
     const auto start = std::chrono::steady_clock::now();
@@ -36,7 +40,45 @@ SolveResult ShootingSolver::solve() {
     std::vector<std::unique_ptr<float[]>> cache(n);
     std::vector<float> scratch(n);
 
-    const std::size_t max_shots = m_options.max_shots ? m_options.max_shots : 100 * n;
+    const std::size_t max_shots = m_options.max_iterations ? m_options.max_iterations : 100 * n;
+    res.status = "max iterations";
+    double area = 0.0;
+    Rgb rho_area;
+    for (std::size_t i = 0; i < n; ++i) {
+        rho_area += m_patches[i].reflectance * m_patches[i].area;
+        area += m_patches[i].area;
+    }
+    // Ambient term: unshot power spread over all area, inter-reflected by the mean
+    // reflectance (Cohen et al. 1988, eq. 5-6). For display only; B itself is untouched.
+    auto with_ambient = [&](std::vector<Rgb>& out) {
+        Rgb unshot_power;
+        for (std::size_t i = 0; i < n; ++i) unshot_power += res.unshot[i] * m_patches[i].area;
+        out.resize(n);
+        for (int c = 0; c < 3; ++c) {
+            const double mean_rho = rho_area[c] / area;
+            const double ambient = mean_rho < 1.0 ? unshot_power[c] / area / (1.0 - mean_rho) : 0.0;
+            for (std::size_t i = 0; i < n; ++i)
+                out[i][c] = res.radiosity[i][c] + m_patches[i].reflectance[c] * ambient;
+        }
+    };
+    std::vector<Rgb> display;
+    std::size_t next_log = 0;
+    auto log = [&] {
+        ConvergenceRecord r;
+        r.step = res.steps;
+        r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        r.unshot_fraction = res.unshot_fraction;
+        if (m_matrix) r.residual = relative_residual(m_patches, *m_matrix, res.radiosity);
+        if (m_options.reference) {
+            reference_errors(res.radiosity, *m_options.reference, r.rms_error, r.max_error);
+            double ignored;
+            with_ambient(display);
+            reference_errors(display, *m_options.reference, r.ambient_rms_error, ignored);
+        }
+        res.log.push_back(r);
+        // Log densely at first, then every ~5% more shots: the curves are drawn on log axes.
+        next_log = std::max(res.steps + 1, std::size_t(double(res.steps) * 1.05));
+    };
     double unshot_total = emitted;
     auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     while (true) {
@@ -46,8 +88,17 @@ SolveResult ShootingSolver::solve() {
             for (std::size_t i = 0; i < n; ++i) unshot_total += res.unshot[i].sum() * m_patches[i].area;
         }
         res.unshot_fraction = unshot_total / emitted;
-        if (res.unshot_fraction < m_options.tolerance) { res.converged = true; break; }
+        if (res.steps >= next_log) log();
+        if (res.unshot_fraction < m_options.tolerance) {
+            res.converged = true;
+            res.status = "converged";
+            break;
+        }
         if (res.steps >= max_shots) break;
+        if (m_options.max_seconds > 0 && seconds() > m_options.max_seconds) {
+            res.status = "max seconds";
+            break;
+        }
 
         std::size_t shooter = 0;
         double best = -1.0;
@@ -55,47 +106,55 @@ SolveResult ShootingSolver::solve() {
             const double p = res.unshot[i].sum() * m_patches[i].area;
             if (p > best) { best = p; shooter = i; }
         }
-        const float* row;
-        if (cache[shooter]) {
-            row = cache[shooter].get();
-        } else {
-            m_ff.compute_row(shooter, scratch);
-            if (cache_rows > 0) {
-                --cache_rows;
-                cache[shooter].reset(new float[n]);
-                std::copy(scratch.begin(), scratch.end(), cache[shooter].get());
+        // F_ji for every receiver j: the fraction of j's view filled by the shooter, so that
+        // dH_j = F_ji dB_i. With a matrix, its column i (shooting then solves exactly the
+        // system the gathering solvers solve); otherwise F_ij A_i / A_j from row i.
+        const float* row = nullptr;
+        const double ai = m_patches[shooter].area;
+        if (!m_matrix) {
+            if (cache[shooter]) {
                 row = cache[shooter].get();
             } else {
-                row = scratch.data();
+                m_ff.compute_row(shooter, scratch);
+                if (cache_rows > 0) {
+                    --cache_rows;
+                    cache[shooter].reset(new float[n]);
+                    std::copy(scratch.begin(), scratch.end(), cache[shooter].get());
+                    row = cache[shooter].get();
+                } else {
+                    row = scratch.data();
+                }
             }
         }
         const Rgb shot = res.unshot[shooter];
-        const double ai = m_patches[shooter].area;
         res.unshot[shooter] = Rgb();
         unshot_total -= shot.sum() * ai;
-        double row_sum = 0.0;
+        Rgb arrived;
         for (std::size_t j = 0; j < n; ++j) {
-            const double f = row[j];
-            if (f == 0.0) continue;
-            row_sum += f;
             const Patch& pj = m_patches[j];
-            const Rgb arriving = shot * (f * ai);          // power arriving at j
-            const Rgb dh = arriving * (1.0 / pj.area);      // irradiance increment
+            const double fji = row ? double(row[j]) * ai / pj.area : double((*m_matrix)(j, shooter));
+            if (fji == 0.0) continue;
+            const Rgb dh = shot * fji;                      // irradiance increment
+            const Rgb arriving = dh * pj.area;              // power arriving at j
             const Rgb reflected = pj.reflectance * dh;      // radiosity increment
             res.irradiance[j] += dh;
             res.radiosity[j] += reflected;
             res.unshot[j] += reflected;
             res.absorbed_power += arriving - pj.reflectance * arriving;
+            arrived += arriving;
             unshot_total += reflected.sum() * pj.area;
         }
-        res.escaped_power += shot * (ai * (1.0 - row_sum));
+        res.escaped_power += shot * ai - arrived;
         ++res.steps;
         if (m_options.progress) {
             res.unshot_fraction = unshot_total / emitted;
             m_options.progress({res.steps, max_shots, res.unshot_fraction, m_options.tolerance, seconds()});
         }
     }
+    if (res.log.empty() || res.log.back().step != res.steps) log();
+    res.residual = res.log.back().residual;
     for (std::size_t i = 0; i < n; ++i) res.unshot_power += res.unshot[i] * m_patches[i].area;
+    if (m_options.ambient) with_ambient(res.display);
     res.seconds = seconds();
     return res;
 }

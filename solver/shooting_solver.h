@@ -1,37 +1,34 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <functional>
 #include <vector>
 
-#include "mesh/patch.h"
-#include "solver/form_factor_estimator.h"
-#include "solver/solve_result.h"
+#include "solver/solver.h"
 
 namespace bounce {
-
-struct ShootingOptions {
-    double tolerance = 1e-3;        // stop when unshot power / emitted power falls below this
-    std::size_t max_shots = 0;      // hard stop; 0: 100 * patch count
-    std::size_t cache_mb = 1024;    // form-factor rows kept for patches that shoot again
-    std::function<void(const SolveProgress&)> progress;  // called after every shot
-};
 
 /// Progressive refinement radiosity (Cohen, Chen, Wallace and Greenberg 1988): Southwell
 /// iteration on B = E + rho F B. Each step picks the patch with the most unshot power
 /// dB_i A_i and shoots it: every patch j receives dH_j = dB_i F_ij A_i / A_j, reflects
 /// rho_j dH_j, and that reflected part becomes j's unshot radiosity. Needs one form-factor row
-/// per shot, never the whole matrix.
-class ShootingSolver {
+/// per shot, never the whole matrix (rows of re-shooting patches are cached within a budget).
+/// Stops when the unshot power falls below `tolerance` of the emitted power. The ambient term
+/// (the unshot power spread uniformly and inter-reflected, 1/(1 - mean rho)) gives a display
+/// estimate of an unfinished solution in SolveResult::display.
+using ShootingOptions = SolverOptions;
+
+class ShootingSolver final : public Solver {
 public:
     ShootingSolver(const std::vector<Patch>& patches, const FormFactorEstimator& form_factors,
-                   const ShootingOptions& options);
-    SolveResult solve();
+                   const SolverOptions& options, const FormFactorMatrix* matrix = nullptr);
+    std::string name() const override { return "shooting"; }
+    SolveResult solve() override;
 
 private:
     const std::vector<Patch>& m_patches;
     const FormFactorEstimator& m_ff;
-    ShootingOptions m_options;
+    SolverOptions m_options;
+    const FormFactorMatrix* m_matrix;  // when given: residuals in the log
 };
 
 }  // namespace bounce

@@ -123,6 +123,12 @@ void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const S
     cd->AddArray(surface);
     cd->SetActiveScalars("luminance");
 
+    if (result.display.size() == n) {
+        auto display = rgb_array("radiosity_ambient", n);
+        for (std::size_t i = 0; i < n; ++i) set_rgb(display, i, result.display[i]);
+        cd->AddArray(display);
+    }
+
     auto point_radiosity = rgb_array("radiosity", om.n_vertices());
     for (std::size_t v = 0; v < om.n_vertices(); ++v)
         set_rgb(point_radiosity, v, vertex_weight[v] > 0 ? vertex_sum[v] * (1.0 / vertex_weight[v]) : Rgb());
@@ -137,6 +143,8 @@ void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const S
     add_field(fd, "steps", double(result.steps));
     add_field(fd, "unshot_fraction", result.unshot_fraction);
     add_field(fd, "converged", result.converged ? 1.0 : 0.0);
+    add_field(fd, "status", result.status);
+    add_field(fd, "residual", result.residual);
     add_field(fd, "seconds", result.seconds);
     add_field(fd, "emitted_power", result.emitted_power);
     add_field(fd, "absorbed_power", result.absorbed_power);

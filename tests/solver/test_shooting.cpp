@@ -21,7 +21,7 @@ TEST(ShootingSolver, FurnaceGivesEOverOneMinusRho) {
         const auto ff = make_form_factor_estimator("raycast", mesh.patches(), vis.get(), {});
         ShootingOptions so;
         so.tolerance = 1e-9;
-        so.max_shots = 1000000;
+        so.max_iterations = 1000000;
         const SolveResult r = ShootingSolver(mesh.patches(), *ff, so).solve();
         ASSERT_TRUE(r.converged);
         double worst = 0;
@@ -60,7 +60,7 @@ TEST(ShootingSolver, StopsAtMaxShotsAndSaysItDidNotConverge) {
     const auto vis = make_cgal_visibility(mesh.patches());
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), vis.get(), {});
     ShootingOptions so;
-    so.max_shots = 5;
+    so.max_iterations = 5;
     const SolveResult r = ShootingSolver(mesh.patches(), *ff, so).solve();
     EXPECT_EQ(r.steps, 5u);
     EXPECT_FALSE(r.converged);
