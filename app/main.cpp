@@ -20,7 +20,9 @@
 #include "solver/form_factor_estimator.h"
 #include "solver/form_factor_matrix.h"
 #include "solver/convergence.h"
+#include "solver/gathering_solver.h"
 #include "solver/solver.h"
+#include "viewer/charts.h"
 #include "solver/visibility.h"
 #include "viewer/version.h"
 #include "viewer/vtu_writer.h"
@@ -277,6 +279,91 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     return res.converged ? 0 : 3;
 }
 
+struct CompareCommand {
+    std::vector<std::string> solvers = {"shooting", "gauss-seidel", "jacobi", "direct"};
+    std::vector<std::string> methods = {"raycast", "hemicube"};
+    std::string out = "compare";
+    SolverOptions options;
+    FormFactorOptions ff;
+    std::size_t max_matrix_mb = 2048;
+    std::size_t max_direct = 4000;
+};
+
+/// Every requested solver on every requested form-factor method, on one meshing, against one
+/// reference: the direct solution on the first method's matrix when the scene is small
+/// enough, else Gauss-Seidel to a relative residual of 1e-12 (said so).
+int run_compare(const CommonOptions& o, const CompareCommand& c) {
+    std::error_code ec;
+    std::filesystem::create_directories(c.out, ec);
+    if (!std::filesystem::is_directory(c.out)) throw InputError(c.out + ": cannot create the output directory");
+    Scene scene = load_scene(o.scene);
+    print_warnings(scene, o.quiet);
+    PatchMesh mesh(scene, o.meshing);
+    const auto& P = mesh.patches();
+    const auto visibility = make_cgal_visibility(P);
+    std::vector<std::unique_ptr<FormFactorEstimator>> estimators;
+    std::vector<FormFactorMatrix> matrices;
+    for (const auto& m : c.methods) {
+        estimators.push_back(make_form_factor_estimator(m, P, visibility.get(), c.ff));
+        matrices.push_back(FormFactorMatrix::build(*estimators.back(), P.size(), c.max_matrix_mb << 20));
+        if (!o.quiet) std::cout << m << " form factors: " << matrices.back().seconds() << " s\n";
+    }
+    SolverOptions ref_options;
+    ref_options.max_matrix_mb = c.max_matrix_mb;
+    SolveResult reference;
+    std::string reference_name;
+    if (P.size() <= c.max_direct) {
+        reference = DirectSolver({P, nullptr, &matrices[0]}, ref_options).solve();
+        reference_name = "direct solution on the " + c.methods[0] + " matrix";
+    } else {
+        ref_options.tolerance = 1e-12;
+        ref_options.max_iterations = 100000;
+        reference = GatheringSolver(true, {P, nullptr, &matrices[0]}, ref_options).solve();
+        reference_name = "Gauss-Seidel to residual 1e-12 on the " + c.methods[0] + " matrix (too large for direct)";
+    }
+    if (!o.quiet) std::cout << "reference: " << reference_name << "\n";
+
+    std::vector<SolveResult> runs;
+    std::vector<std::string> run_methods;
+    std::vector<double> ff_seconds;
+    for (std::size_t k = 0; k < c.methods.size(); ++k) {
+        const MatrixFormFactor rows(matrices[k], c.methods[k]);
+        for (const auto& name : c.solvers) {
+            if (name == "direct" && P.size() > c.max_direct) continue;
+            SolverOptions so = c.options;
+            so.reference = &reference.radiosity;
+            so.max_matrix_mb = c.max_matrix_mb;
+            SolveResult r = make_solver(name, {P, &rows, &matrices[k]}, so)->solve();
+            r.form_factors = c.methods[k];
+            runs.push_back(std::move(r));
+            run_methods.push_back(c.methods[k]);
+            ff_seconds.push_back(matrices[k].seconds());
+        }
+    }
+    const std::filesystem::path dir = c.out;
+    write_log_csv(dir / "convergence.csv", runs, run_methods, ff_seconds);
+    write_comparison_charts(dir);
+    if (!o.quiet) {
+        std::printf("%-10s %-13s %8s %10s %10s %11s %11s %16s\n", "ff", "solver", "steps", "solve s", "total s",
+                    "residual", "rms error", "steps/s to 1e-3");
+        for (std::size_t k = 0; k < runs.size(); ++k) {
+            const auto& r = runs[k];
+            const auto& last = r.log.back();
+            std::string to = "-";
+            for (const auto& rec : r.log)
+                if (rec.residual >= 0 && rec.residual < 1e-3) {
+                    to = std::to_string(rec.step) + " / " + std::to_string(rec.seconds).substr(0, 6);
+                    break;
+                }
+            std::printf("%-10s %-13s %8zu %10.3f %10.3f %11.3g %11.3g %16s\n", run_methods[k].c_str(), r.solver.c_str(),
+                        r.steps, r.seconds, r.seconds + ff_seconds[k], r.residual, last.rms_error, to.c_str());
+        }
+        std::cout << "patches " << P.size() << "; wrote " << (dir / "convergence.csv").string() << ", convergence.png, "
+                  << "speed_vs_accuracy.png\n";
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -317,6 +404,23 @@ int main(int argc, char** argv) {
     ff_cmd->add_option("--max-matrix-mb", ffc.max_matrix_mb, "refuse a matrix larger than this (MB)");
     add_form_factor_options(ff_cmd, ffc.ff);
 
+    CompareCommand cmp;
+    auto* cmp_cmd = app.add_subcommand("compare", "run several solvers and form-factor methods; chart them");
+    add_meshing_options(cmp_cmd, common);
+    cmp_cmd->add_option("--solvers", cmp.solvers, "solvers to run (default: all)")
+        ->delimiter(',')
+        ->check(CLI::IsMember(bounce::solver_names()));
+    cmp_cmd->add_option("--form-factors", cmp.methods, "form-factor methods (default: raycast,hemicube); the first gives the reference")
+        ->delimiter(',')
+        ->check(CLI::IsMember(bounce::form_factor_methods()));
+    cmp_cmd->add_option("--out", cmp.out, "output folder (default: compare)");
+    cmp_cmd->add_option("--tolerance", cmp.options.tolerance, "stopping tolerance of each solver")
+        ->check(CLI::PositiveNumber);
+    cmp_cmd->add_option("--max-iterations", cmp.options.max_iterations, "shots or sweeps limit");
+    cmp_cmd->add_option("--sor", cmp.options.sor, "over-relaxation for jacobi and gauss-seidel")->check(CLI::Range(0.0, 2.0));
+    cmp_cmd->add_option("--max-matrix-mb", cmp.max_matrix_mb, "refuse a matrix larger than this (MB)");
+    add_form_factor_options(cmp_cmd, cmp.ff);
+
     auto* info_cmd = app.add_subcommand("info", "print the scene's surfaces, patches, area and emitted power");
     add_meshing_options(info_cmd, common);
 
@@ -333,6 +437,7 @@ int main(int argc, char** argv) {
     try {
         if (*solve_cmd) return run_solve(common, solve);
         if (*ff_cmd) return run_form_factors(common, ffc);
+        if (*cmp_cmd) return run_compare(common, cmp);
         return run_info(common);
     } catch (const bounce::InputError& e) {
         std::cerr << "bounce: error: " << e.what() << "\n";

@@ -218,7 +218,16 @@ SolveResult DirectSolver::solve() {
             for (std::size_t j = k + 1; j < n; ++j) s -= pk[j] * x[j];
             x[k] = s / pk[k];
         }
-        for (std::size_t i = 0; i < n; ++i) res.radiosity[i][c] = x[i];
+        double top = 0.0;
+        for (std::size_t i = 0; i < n; ++i) top = std::max(top, std::abs(x[i]));
+        for (std::size_t i = 0; i < n; ++i) {
+            // Radiosity cannot be negative: a negative solution means rho F has spectral radius
+            // above 1 (reflectance 1 in a closed scene with rows summing a little above 1).
+            if (!(x[i] >= -1e-9 * top))
+                throw SingularSystemError("the radiosity system has no physical solution (negative radiosity at patch " +
+                                          std::to_string(i) + "): reflectance at or near 1 in a closed scene");
+            res.radiosity[i][c] = x[i];
+        }
     }
     res.steps = 1;
     res.residual = relative_residual(P, m_F, res.radiosity);

@@ -172,3 +172,56 @@ TEST(Cli, ATooLargeMatrixIsRefusedWithExitTwo) {
     EXPECT_NE(r.err.find("MB, over the limit of 64 MB"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "F.csv"));
 }
+
+TEST(Cli, EverySolverRunsFromTheCommandLineAndLogs) {
+    test::TempDir dir;
+    for (const std::string solver : {"shooting", "gauss-seidel", "jacobi", "direct"}) {
+        const auto log = dir / (solver + ".csv");
+        const auto r = bounce_run("solve --max-area 8000 --solver " + solver + " -o " + (dir / "s.vtu").string() +
+                                  " --log " + log.string());
+        ASSERT_EQ(r.exit_code, 0) << solver << ": " << r.err;
+        const std::string text = slurp(log);
+        EXPECT_EQ(text.rfind("form_factors,solver,step,seconds", 0), 0u) << text.substr(0, 80);
+        EXPECT_GE(lines(text), 2) << solver;
+        EXPECT_NE(text.find("raycast," + solver + ","), std::string::npos);
+    }
+    const auto stuck = bounce_run("solve --max-area 8000 --solver jacobi --max-iterations 1 --tolerance 1e-9 -o " +
+                                  (dir / "j.vtu").string());
+    EXPECT_EQ(stuck.exit_code, 3);
+    EXPECT_NE(stuck.err.find("not converged"), std::string::npos);
+    EXPECT_TRUE(std::filesystem::exists(dir / "j.vtu"));
+}
+
+TEST(Cli, ReflectanceOneInAClosedBoxIsAClearErrorOrAStatedNonConvergence) {
+    test::TempDir dir;
+    const auto scene = dir.write("white.json", R"({"materials": {"w": {"reflectance": 1, "emission": 1}},
+        "objects": [{"type": "box", "material": "w", "inward": true}]})");
+    const auto direct = bounce_run("solve " + scene.string() + " --max-edge 0.5 --solver direct -o " +
+                                   (dir / "d.vtu").string());
+    EXPECT_EQ(direct.exit_code, 2) << direct.err;
+    EXPECT_NE(direct.err.find("reflectance"), std::string::npos) << direct.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "d.vtu"));
+    const auto jacobi = bounce_run("solve " + scene.string() + " --max-edge 0.5 --solver jacobi --max-iterations 200 -o " +
+                                   (dir / "j.vtu").string());
+    EXPECT_EQ(jacobi.exit_code, 3) << jacobi.err;
+    EXPECT_NE(jacobi.err.find("may not converge"), std::string::npos) << jacobi.err;
+    EXPECT_EQ(jacobi.out.find("nan"), std::string::npos) << jacobi.out;
+}
+
+TEST(Cli, CompareWritesTheLogAndBothCharts) {
+    test::TempDir dir;
+    const auto out = dir / "cmp";
+    const auto r = bounce_run("compare --max-area 20000 --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string csv = slurp(out / "convergence.csv");
+    for (const std::string ff : {"raycast", "hemicube"})
+        for (const std::string solver : {"shooting", "gauss-seidel", "jacobi", "direct"})
+            EXPECT_NE(csv.find("\n" + ff + "," + solver + ","), std::string::npos) << ff << " " << solver;
+    for (const char* png : {"convergence.png", "speed_vs_accuracy.png"}) {
+        const auto p = out / png;
+        const auto decoded = test::run("/usr/bin/python3 -c \"import matplotlib.image as m; a = m.imread('" +
+                                       p.string() + "'); print(a.shape[0] > 100 and a.shape[1] > 100)\"");
+        EXPECT_EQ(decoded.exit_code, 0) << decoded.err;
+        EXPECT_EQ(decoded.out, "True\n") << png;
+    }
+}

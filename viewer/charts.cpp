@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: MIT
+#include "viewer/charts.h"
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+namespace bounce {
+
+void write_comparison_charts(const std::filesystem::path& folder) {
+    const std::filesystem::path script = std::filesystem::path(BOUNCE_CHARTS_DIR) / "plot_compare.py";
+    const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + folder.string() + "'";
+    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("drawing the charts failed: " + cmd);
+}
+
+}  // namespace bounce

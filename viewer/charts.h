@@ -1,0 +1,13 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <filesystem>
+
+namespace bounce {
+
+/// Draws convergence.png and speed_vs_accuracy.png in `folder` from its convergence.csv, with
+/// matplotlib from Debian's /usr/bin/python3 (a plotting library, not hand-drawn pixels).
+/// Throws std::runtime_error when the plotting fails.
+void write_comparison_charts(const std::filesystem::path& folder);
+
+}  // namespace bounce
