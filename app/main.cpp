@@ -388,6 +388,7 @@ int main(int argc, char** argv) {
     solve_cmd->add_option("--sor", solve.options.sor, "over-relaxation factor for jacobi and gauss-seidel, (0,2)")
         ->check(CLI::Range(0.0, 2.0));
     solve_cmd->add_option("--log", solve.log_csv, "write the convergence log (CSV)");
+    solve_cmd->add_flag("--overshoot", solve.options.overshoot, "shooting: over-shoot by rho times the ambient term");
     solve_cmd->add_option("--max-matrix-mb", solve.max_matrix_mb, "refuse a matrix larger than this (MB)");
     solve_cmd->add_option("--form-factors", solve.method, "raycast, hemicube, or analytic (no occlusion)")
         ->check(CLI::IsMember(bounce::form_factor_methods()));

@@ -85,12 +85,18 @@ SolveResult ShootingSolver::solve() {
         next_log = std::max(res.steps + 1, std::size_t(double(res.steps) * 1.05));
         log_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - log_start).count();
     };
-    double unshot_total = emitted;
     while (true) {
-        // Recompute the sum now and then: the running update drifts by rounding.
-        if (res.steps % 256 == 0) {
-            unshot_total = 0.0;
-            for (std::size_t i = 0; i < n; ++i) unshot_total += res.unshot[i].sum() * m_patches[i].area;
+        // One scan: the unshot power still held (absolute: over-shooting leaves negative
+        // unshot radiosity behind) and the patch holding the most of it.
+        double unshot_total = 0.0, best = -1.0;
+        std::size_t shooter = 0;
+        Rgb unshot_signed;
+        for (std::size_t i = 0; i < n; ++i) {
+            const Rgb& u = res.unshot[i];
+            const double p = (std::abs(u.r) + std::abs(u.g) + std::abs(u.b)) * m_patches[i].area;
+            unshot_total += p;
+            unshot_signed += u * m_patches[i].area;
+            if (p > best) { best = p; shooter = i; }
         }
         res.unshot_fraction = unshot_total / emitted;
         if (res.steps >= next_log) log();
@@ -105,12 +111,6 @@ SolveResult ShootingSolver::solve() {
             break;
         }
 
-        std::size_t shooter = 0;
-        double best = -1.0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double p = res.unshot[i].sum() * m_patches[i].area;
-            if (p > best) { best = p; shooter = i; }
-        }
         // F_ji for every receiver j: the fraction of j's view filled by the shooter, so that
         // dH_j = F_ji dB_i. With a matrix, its column i (shooting then solves exactly the
         // system the gathering solvers solve); otherwise F_ij A_i / A_j from row i.
@@ -131,9 +131,17 @@ SolveResult ShootingSolver::solve() {
                 }
             }
         }
-        const Rgb shot = res.unshot[shooter];
-        res.unshot[shooter] = Rgb();
-        unshot_total -= shot.sum() * ai;
+        Rgb shot = res.unshot[shooter];
+        if (m_options.overshoot) {
+            // Over-shooting (Feda and Purgathofer 1991): also shoot the radiosity the patch will
+            // still receive, estimated as rho_i times the ambient term; what was shot in advance
+            // stays behind as negative unshot radiosity and is corrected later.
+            for (int c = 0; c < 3; ++c) {
+                const double mean_rho = rho_area[c] / area;
+                if (mean_rho < 1.0) shot[c] += m_patches[shooter].reflectance[c] * unshot_signed[c] / area / (1.0 - mean_rho);
+            }
+        }
+        res.unshot[shooter] -= shot;
         Rgb arrived;
         for (std::size_t j = 0; j < n; ++j) {
             const Patch& pj = m_patches[j];
@@ -147,12 +155,10 @@ SolveResult ShootingSolver::solve() {
             res.unshot[j] += reflected;
             res.absorbed_power += arriving - pj.reflectance * arriving;
             arrived += arriving;
-            unshot_total += reflected.sum() * pj.area;
         }
         res.escaped_power += shot * ai - arrived;
         ++res.steps;
         if (m_options.progress) {
-            res.unshot_fraction = unshot_total / emitted;
             m_options.progress({res.steps, max_shots, res.unshot_fraction, m_options.tolerance, seconds()});
         }
     }

@@ -20,6 +20,7 @@ struct SolverOptions {
     double max_seconds = 0.0;          // 0: no time limit
     double sor = 1.0;                  // over-relaxation factor for Jacobi and Gauss-Seidel (0, 2)
     bool ambient = true;               // shooting: keep B + ambient for display
+    bool overshoot = false;            // shooting: over-shoot by rho_i times the ambient term
     std::size_t cache_mb = 1024;       // shooting: form-factor rows kept for re-shooting patches
     std::size_t max_matrix_mb = 2048;  // direct: refuse larger dense systems
     const std::vector<Rgb>* reference = nullptr;         // for the error columns of the log

@@ -204,3 +204,22 @@ TEST(Solvers, UnknownSolverAndMissingMatrixAreRefused) {
     EXPECT_THROW(make_solver("conjugate-gradient", {box.patches, nullptr, &box.F}, {}), std::invalid_argument);
     EXPECT_THROW(make_solver("jacobi", {box.patches, nullptr, nullptr}, {}), std::invalid_argument);
 }
+
+TEST(Solvers, OverShootingReachesTheSameSolutionInFewerShots) {
+    const auto& c = cornell();
+    SolverOptions o;
+    o.tolerance = 1e-8;
+    const SolveResult plain = run("shooting", c.mesh.patches(), c.F, o, "raycast");
+    o.overshoot = true;
+    const SolveResult over = run("shooting", c.mesh.patches(), c.F, o, "raycast");
+    ASSERT_TRUE(plain.converged && over.converged);
+    std::printf("cornell %zu patches to 1e-8 unshot: %zu shots, %zu over-shooting\n", c.mesh.size(), plain.steps,
+                over.steps);
+    EXPECT_LT(over.steps, plain.steps);
+    EXPECT_LT(max_relative(over.radiosity, c.direct.radiosity), 1e-6);
+    EXPECT_LT(max_relative(plain.radiosity, c.direct.radiosity), 1e-6);
+    // Energy still balances with negative unshot radiosity about.
+    for (int ch = 0; ch < 3; ++ch)
+        EXPECT_NEAR((over.absorbed_power[ch] + over.escaped_power[ch] + over.unshot_power[ch]) / over.emitted_power[ch],
+                    1.0, 1e-9);
+}
