@@ -23,6 +23,9 @@
 #include "solver/gathering_solver.h"
 #include "solver/solver.h"
 #include "viewer/charts.h"
+#include "viewer/renderer.h"
+#include "viewer/series_writer.h"
+#include "solver/shooting_solver.h"
 #include "solver/visibility.h"
 #include "viewer/version.h"
 #include "viewer/vtu_writer.h"
@@ -38,8 +41,14 @@ struct CommonOptions {
     int threads = 0;
 };
 
+void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o);
+
 void add_meshing_options(CLI::App* cmd, CommonOptions& o) {
     cmd->add_option("scene", o.scene, "'cornell' (built-in, default), a .obj or a .json scene");
+    add_meshing_options_no_scene(cmd, o);
+}
+
+void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
     cmd->add_option("--max-area", o.meshing.max_area,
                     "largest patch area (scene units^2); default: total area / 2000")
         ->check(CLI::NonNegativeNumber);
@@ -119,6 +128,9 @@ struct SolveCommand {
     std::size_t max_matrix_mb = 2048;
     std::string log_csv;
     bool ascii = false;
+    std::string png;
+    std::size_t series = 0;
+    RenderOptions render;
 };
 
 /// Writes a convergence log as CSV: step,seconds,residual,unshot_fraction,rms_error,max_error
@@ -249,6 +261,13 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     SolverOptions so = s.options;
     so.progress = [&](const SolveProgress& p) { progress.update(p); };
     so.max_matrix_mb = s.max_matrix_mb;
+    std::optional<SeriesWriter> series;
+    const ExportInfo info{o.scene, ""};
+    if (s.series > 0) {
+        series.emplace(std::filesystem::path(out).replace_extension(".pvd"), mesh, info);
+        so.snapshot_every = s.series;
+        so.snapshot = [&](std::size_t step, const std::vector<Rgb>& B) { series->add(step, B); };
+    }
     const auto solver = make_solver(s.solver, {P, ff.get(), matrix ? &*matrix : nullptr}, so);
     SolveResult res = solver->solve();
     progress.finish();
@@ -261,6 +280,8 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
              << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
              << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance;
     write_vtu(out, mesh, res, {o.scene, settings.str()}, s.ascii);
+    if (series) series->finish(res);
+    if (!s.png.empty()) render_solution(mesh, res, {o.scene, settings.str()}, s.png, s.render);
     if (!s.log_csv.empty()) write_log_csv(s.log_csv, {res}, {s.method}, {matrix ? matrix->seconds() : 0.0});
     if (!o.quiet) {
         std::cout << "patches " << mesh.size() << ", " << s.solver << " " << res.steps
@@ -268,7 +289,8 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         if (s.solver == "shooting") std::cout << ", unshot fraction " << res.unshot_fraction;
         if (res.residual >= 0) std::cout << ", residual " << res.residual;
         std::cout << (res.converged ? "" : " (NOT converged: " + res.status + ")") << ", " << res.seconds << " s\n"
-                  << "wrote " << out.string() << "\n";
+                  << "wrote " << out.string() << (series ? " and " + series->pvd().string() : "")
+                  << (s.png.empty() ? "" : " and " + s.png) << "\n";
     }
     if (!res.converged && !o.quiet) {
         std::cerr << "bounce: not converged (" << res.status << "), last "
@@ -277,6 +299,45 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
                   << "; the partial solution was written\n";
     }
     return res.converged ? 0 : 3;
+}
+
+void add_render_options(CLI::App* cmd, RenderOptions& r) {
+    cmd->add_option("--camera", r.camera, "cornell, auto or x,y,z:tx,ty,tz (default: cornell for the box)");
+    cmd->add_option("--size", [&r](const CLI::results_t& v) {
+        return std::sscanf(v[0].c_str(), "%dx%d", &r.width, &r.height) == 2;
+    }, "picture size WxH (800x800)");
+    cmd->add_option("--exposure", r.exposure, "exposure in EV (0: mean patch at mid grey)");
+    cmd->add_flag("--smooth", r.smooth, "colours interpolated from the point data");
+    cmd->add_flag("--flat", [&r](std::int64_t) { r.smooth = false; }, "one colour per patch (default)");
+    cmd->add_flag("--luminance", r.luminance, "pseudo-colour by luminance with a colour bar");
+    cmd->add_flag("--edges", r.edges, "draw the patch edges");
+}
+
+struct RenderCommand {
+    std::string input;
+    std::string output;
+    RenderOptions render;
+    double exit_after = 0.0;
+};
+
+/// IN.vtu is rendered as it is; anything else is a scene, solved first with the defaults.
+bool is_vtu(const std::string& p) { return std::filesystem::path(p).extension() == ".vtu"; }
+
+int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive) {
+    if (!interactive) check_output(r.output);
+    if (is_vtu(r.input)) {
+        interactive ? view_vtu(r.input, r.render, r.exit_after) : render_vtu(r.input, r.output, r.render);
+        return 0;
+    }
+    Scene scene = load_scene(r.input);
+    print_warnings(scene, o.quiet);
+    PatchMesh mesh(scene, o.meshing);
+    const auto visibility = make_cgal_visibility(mesh.patches());
+    const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
+    const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
+    interactive ? view_solution(mesh, res, {r.input, ""}, r.render, r.exit_after)
+                : render_solution(mesh, res, {r.input, ""}, r.output, r.render);
+    return 0;
 }
 
 struct CompareCommand {
@@ -422,6 +483,22 @@ int main(int argc, char** argv) {
     cmp_cmd->add_option("--max-matrix-mb", cmp.max_matrix_mb, "refuse a matrix larger than this (MB)");
     add_form_factor_options(cmp_cmd, cmp.ff);
 
+    solve_cmd->add_option("--png", solve.png, "render the result to this PNG after solving");
+    solve_cmd->add_option("--series", solve.series, "also write a .pvd time series: a snapshot every N shots or sweeps");
+    add_render_options(solve_cmd, solve.render);
+
+    RenderCommand rc;
+    auto* render_cmd = app.add_subcommand("render", "render a .vtu (or a scene, solved first) to a PNG");
+    render_cmd->add_option("input", rc.input, "IN.vtu, or a scene")->required();
+    render_cmd->add_option("-o,--output", rc.output, "output PNG")->required();
+    add_render_options(render_cmd, rc.render);
+    add_meshing_options_no_scene(render_cmd, common);
+    auto* view_cmd = app.add_subcommand("view", "interactive window: mouse rotates and zooms, e edges, l luminance");
+    view_cmd->add_option("input", rc.input, "IN.vtu, or a scene")->required();
+    add_render_options(view_cmd, rc.render);
+    view_cmd->add_option("--exit-after", rc.exit_after, "close after this many seconds (demos, tests)");
+    add_meshing_options_no_scene(view_cmd, common);
+
     auto* info_cmd = app.add_subcommand("info", "print the scene's surfaces, patches, area and emitted power");
     add_meshing_options(info_cmd, common);
 
@@ -439,6 +516,8 @@ int main(int argc, char** argv) {
         if (*solve_cmd) return run_solve(common, solve);
         if (*ff_cmd) return run_form_factors(common, ffc);
         if (*cmp_cmd) return run_compare(common, cmp);
+        if (*render_cmd) return run_render(common, rc, false);
+        if (*view_cmd) return run_render(common, rc, true);
         return run_info(common);
     } catch (const bounce::InputError& e) {
         std::cerr << "bounce: error: " << e.what() << "\n";

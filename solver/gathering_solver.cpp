@@ -132,6 +132,8 @@ SolveResult GatheringSolver::solve() {
         }
         const double residual = std::sqrt(r2) / e_norm;
         log(sweep - 1, residual, old);
+        if (m_options.snapshot && m_options.snapshot_every && sweep % m_options.snapshot_every == 0)
+            m_options.snapshot(sweep, B);
         res.steps = sweep;
         res.residual = residual;
         if (first < 0) first = residual;

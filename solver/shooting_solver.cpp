@@ -158,6 +158,8 @@ SolveResult ShootingSolver::solve() {
         }
         res.escaped_power += shot * ai - arrived;
         ++res.steps;
+        if (m_options.snapshot && m_options.snapshot_every && res.steps % m_options.snapshot_every == 0)
+            m_options.snapshot(res.steps, res.radiosity);
         if (m_options.progress) {
             m_options.progress({res.steps, max_shots, res.unshot_fraction, m_options.tolerance, seconds()});
         }

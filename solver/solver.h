@@ -25,6 +25,8 @@ struct SolverOptions {
     std::size_t max_matrix_mb = 2048;  // direct: refuse larger dense systems
     const std::vector<Rgb>* reference = nullptr;         // for the error columns of the log
     std::function<void(const SolveProgress&)> progress;  // after every shot or sweep
+    std::size_t snapshot_every = 0;    // call `snapshot` every this many shots or sweeps (0: never)
+    std::function<void(std::size_t step, const std::vector<Rgb>& radiosity)> snapshot;
 };
 
 /// A radiosity solver: B = E + rho F B per channel.

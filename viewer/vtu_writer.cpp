@@ -13,11 +13,15 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkCharArray.h>
 #include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include "viewer/solution_grid.h"
 #include "viewer/version.h"
+#include "mesh/input_error.h"
+#include <vtkXMLUnstructuredGridReader.h>
 
 namespace bounce {
 namespace {
@@ -39,9 +43,12 @@ void set_rgb(vtkDoubleArray* a, std::size_t i, const Rgb& c) {
 }
 
 void add_field(vtkFieldData* fd, const char* name, const std::string& value) {
-    vtkNew<vtkStringArray> a;
+    // Text as a char array (XML type Int8), not vtkStringArray: meshio and other readers
+    // reject the "String" type, and the file must open in them as it is.
+    if (value.empty()) return;  // zero-length arrays trip meshio's reader
+    vtkNew<vtkCharArray> a;
     a->SetName(name);
-    a->InsertNextValue(value);
+    for (char c : value) a->InsertNextValue(c);
     fd->AddArray(a);
 }
 
@@ -63,14 +70,14 @@ void add_field(vtkFieldData* fd, const char* name, const Rgb& value) {
 
 }  // namespace
 
-void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const SolveResult& result,
-               const ExportInfo& info, bool ascii) {
+vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, const SolveResult& result,
+                                                        const ExportInfo& info) {
     const auto& patches = mesh.patches();
     const std::size_t n = patches.size();
     if (result.radiosity.size() != n) throw std::runtime_error("write_vtu: solution and mesh differ in size");
     const auto& om = mesh.mesh();
 
-    vtkNew<vtkUnstructuredGrid> grid;
+    auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
     vtkNew<vtkPoints> points;
     points->SetDataTypeToDouble();
     points->SetNumberOfPoints(vtkIdType(om.n_vertices()));
@@ -150,6 +157,15 @@ void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const S
     add_field(fd, "absorbed_power", result.absorbed_power);
     add_field(fd, "escaped_power", result.escaped_power);
     add_field(fd, "unshot_power", result.unshot_power);
+    return grid;
+}
+
+void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const SolveResult& result,
+               const ExportInfo& info, bool ascii) {
+    write_grid(path, make_solution_grid(mesh, result, info), ascii);
+}
+
+void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid, bool ascii) {
 
     // Temporary name in the same directory, so the final rename is atomic.
     std::filesystem::path tmp = path;
@@ -174,6 +190,36 @@ void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const S
         std::filesystem::remove(tmp, ec);
         throw std::runtime_error(path.string() + ": cannot write the .vtu file (" + ec.message() + ")");
     }
+}
+
+std::string field_text(vtkFieldData* fd, const char* name) {
+    if (auto* s = vtkStringArray::SafeDownCast(fd->GetAbstractArray(name)))
+        return s->GetNumberOfValues() > 0 ? s->GetValue(0) : "";
+    std::string out;
+    if (auto* a = fd->GetArray(name))
+        for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) out += char(a->GetTuple1(i));
+    return out;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> read_solution_grid(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw InputError(path.string() + ": file not found");
+    if (std::filesystem::is_directory(path, ec)) throw InputError(path.string() + ": is a directory, expected a .vtu");
+    auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+    if (!reader->CanReadFile(path.string().c_str()))
+        throw InputError(path.string() + ": not a readable VTK unstructured grid (.vtu)");
+    // VTK reports parse errors through its output window; keep them off the terminal and
+    // decide from the result.
+    reader->GlobalWarningDisplayOff();
+    reader->SetFileName(path.string().c_str());
+    reader->Update();
+    vtkUnstructuredGrid* g = reader->GetOutput();
+    vtkDataArray* b = g ? g->GetCellData()->GetArray("radiosity") : nullptr;
+    if (reader->GetErrorCode() != 0 || !g || g->GetNumberOfCells() == 0 || !b || b->GetNumberOfComponents() != 3 ||
+        b->GetNumberOfTuples() != g->GetNumberOfCells())
+        throw InputError(path.string() + ": corrupt .vtu or no 3-component cell array 'radiosity'");
+    vtkSmartPointer<vtkUnstructuredGrid> out = g;
+    return out;
 }
 
 }  // namespace bounce

@@ -27,3 +27,10 @@ void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const S
                const ExportInfo& info, bool ascii = false);
 
 }  // namespace bounce
+
+class vtkUnstructuredGrid;
+
+namespace bounce {
+/// Writes any grid as .vtu the same way (temporary file, then rename).
+void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid, bool ascii = false);
+}  // namespace bounce

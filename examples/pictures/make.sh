@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Regenerates the README's pictures of the default Cornell box: the rendered box
+# (cornell.png) and the same .vtu coloured by luminance with patch edges (cornell_luminance.png).
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+bounce="$here/../../scripts/bounce.sh"
+"$bounce" solve -q -o "$here/cornell.vtu"
+"$bounce" render "$here/cornell.vtu" -o "$here/cornell.png" --smooth --size 600x600
+"$bounce" render "$here/cornell.vtu" -o "$here/cornell_luminance.png" --luminance --edges --size 600x600
+rm -f "$here/cornell.vtu"
+echo "wrote $here/cornell.png and cornell_luminance.png"

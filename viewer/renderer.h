@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "mesh/patch_mesh.h"
+#include "solver/solve_result.h"
+#include "viewer/vtu_writer.h"
+
+namespace bounce {
+
+/// How to turn a solution into a picture.
+struct RenderOptions {
+    std::string camera = "default";  // "cornell", "auto", "x,y,z:tx,ty,tz"; default: cornell for the box
+    int width = 800, height = 800;   // pixels
+    double exposure = 0.0;           // EV: each +1 doubles the brightness before the tone curve
+    bool smooth = false;             // colours from the point data (interpolated) instead of per patch
+    bool luminance = false;          // pseudo-colour by luminance with a colour bar
+    bool edges = false;              // draw patch edges
+};
+
+/// Renders a .vtu written by bounce to a PNG (temporary file, then rename), under a virtual
+/// display when DISPLAY is unset. Throws InputError for a missing or corrupt input or a bad
+/// camera string.
+void render_vtu(const std::filesystem::path& vtu, const std::filesystem::path& png, const RenderOptions& options);
+
+/// Renders a solution in memory to a PNG.
+void render_solution(const PatchMesh& mesh, const SolveResult& result, const ExportInfo& info,
+                     const std::filesystem::path& png, const RenderOptions& options);
+
+/// An interactive window (rotate, zoom; 'e' toggles patch edges, 'l' luminance colouring with
+/// a colour bar). Closes by itself after exit_after seconds when that is positive.
+void view_vtu(const std::filesystem::path& vtu, const RenderOptions& options, double exit_after = 0.0);
+void view_solution(const PatchMesh& mesh, const SolveResult& result, const ExportInfo& info,
+                   const RenderOptions& options, double exit_after = 0.0);
+
+}  // namespace bounce

@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+#include "viewer/series_writer.h"
+
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+namespace bounce {
+
+SeriesWriter::SeriesWriter(std::filesystem::path pvd, const PatchMesh& mesh, ExportInfo info)
+    : m_pvd(std::move(pvd)), m_mesh(mesh), m_info(std::move(info)) {
+    m_folder = m_pvd.parent_path() / (m_pvd.stem().string() + "_series");
+    std::filesystem::create_directories(m_folder);
+}
+
+void SeriesWriter::add(std::size_t step, const std::vector<Rgb>& radiosity) {
+    SolveResult snap;
+    snap.radiosity = radiosity;
+    snap.steps = step;
+    snap.status = "running";
+    char name[64];
+    std::snprintf(name, sizeof name, "step_%09zu.vtu", step);
+    write_vtu(m_folder / name, m_mesh, snap, m_info);
+    m_entries.emplace_back(step, (m_folder.filename() / name).string());
+}
+
+void SeriesWriter::finish(const SolveResult& final) {
+    if (m_entries.empty() || m_entries.back().first != final.steps) {
+        char name[64];
+        std::snprintf(name, sizeof name, "step_%09zu.vtu", final.steps);
+        write_vtu(m_folder / name, m_mesh, final, m_info);
+        m_entries.emplace_back(final.steps, (m_folder.filename() / name).string());
+    }
+    const std::filesystem::path tmp = m_pvd.string() + ".tmp";
+    {
+        std::ofstream out(tmp);
+        out << "<?xml version=\"1.0\"?>\n"
+               "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+        for (const auto& [step, file] : m_entries)
+            out << "    <DataSet timestep=\"" << step << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
+        out << "  </Collection>\n</VTKFile>\n";
+        if (!out.flush()) throw std::runtime_error(m_pvd.string() + ": cannot write");
+    }
+    std::filesystem::rename(tmp, m_pvd);
+}
+
+}  // namespace bounce
