@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <sstream>
 
@@ -79,24 +80,42 @@ void print_warnings(const Scene& scene, bool quiet) {
 /// A one-line progress display on a terminal, at most five updates a second.
 class ProgressLine {
 public:
-    explicit ProgressLine(bool enabled) : m_enabled(enabled && ::isatty(STDERR_FILENO)) {}
+    explicit ProgressLine(bool enabled, std::string step = "shot", std::string measure = "unshot")
+        : m_enabled(enabled && ::isatty(STDERR_FILENO)), m_step(std::move(step)), m_measure(std::move(measure)) {}
     ~ProgressLine() { finish(); }
     void update(const SolveProgress& p) {
+        std::lock_guard<std::mutex> lock(m_mutex);
         if (!m_enabled || p.seconds - m_last < 0.2) return;
         m_last = p.seconds;
-        std::fprintf(stderr, "\rshot %zu, unshot %.2e (target %.1e), %.1f s   ", p.step, p.unshot_fraction,
-                     p.tolerance, p.seconds);
+        std::fprintf(stderr, "\r%s %zu, %s %.2e (target %.1e), %.1f s   ", m_step.c_str(), p.step, m_measure.c_str(),
+                     p.unshot_fraction, p.tolerance, p.seconds);
+        m_shown = true;
+    }
+    /// Rows of a form-factor matrix; called from worker threads.
+    void rows(std::size_t done, std::size_t total) {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        if (!m_enabled) return;
+        const double now = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+        if (now - m_last < 0.2 && done < total) return;
+        m_last = now;
+        std::fprintf(stderr, "\rform factors: %zu / %zu rows, %.1f s   ", done, total, now);
         m_shown = true;
     }
     void finish() {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_last = 0.0;
+        m_start = std::chrono::steady_clock::now();
         if (m_shown) std::fputc('\n', stderr);
         m_shown = false;
     }
 
 private:
     bool m_enabled;
+    std::string m_step, m_measure;
     bool m_shown = false;
     double m_last = 0.0;
+    std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
+    std::mutex m_mutex;
 };
 
 std::string default_output(const std::string& scene) {
@@ -182,7 +201,10 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
                                  " MB, over the limit of " + std::to_string(c.max_matrix_mb) + " MB (--max-matrix-mb)");
     const auto visibility = make_cgal_visibility(P);
     const auto ff = make_form_factor_estimator(c.method, P, visibility.get(), c.ff);
-    const auto F = FormFactorMatrix::build(*ff, n, c.max_matrix_mb << 20);
+    ProgressLine progress(!o.quiet);
+    const auto F = FormFactorMatrix::build(*ff, n, c.max_matrix_mb << 20,
+                                           [&](std::size_t d, std::size_t t) { progress.rows(d, t); });
+    progress.finish();
     std::vector<double> sums(n, 0.0);
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = 0; j < n; ++j) sums[i] += F(i, j);
@@ -248,8 +270,14 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     const auto& P = mesh.patches();
     const auto visibility = make_cgal_visibility(P);
     const auto ff = make_form_factor_estimator(s.method, P, visibility.get(), s.ff);
+    const bool shooting = s.solver == "shooting";
+    ProgressLine progress(!o.quiet, shooting ? "shot" : "sweep", shooting ? "unshot" : "residual");
     std::optional<FormFactorMatrix> matrix;
-    if (s.solver != "shooting") matrix = FormFactorMatrix::build(*ff, P.size(), s.max_matrix_mb << 20);
+    if (s.solver != "shooting") {
+        matrix = FormFactorMatrix::build(*ff, P.size(), s.max_matrix_mb << 20,
+                                         [&](std::size_t d, std::size_t t) { progress.rows(d, t); });
+        progress.finish();
+    }
     if (matrix) {
         const double bound = contraction_bound(P, matrix->row_sums());
         if (bound >= 1.0 && !o.quiet)
@@ -257,7 +285,6 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
                       << " >= 1: the iteration may not converge (reflectance 1 in a closed scene, or row sums "
                          "above 1)\n";
     }
-    ProgressLine progress(!o.quiet);
     SolverOptions so = s.options;
     so.progress = [&](const SolveProgress& p) { progress.update(p); };
     so.max_matrix_mb = s.max_matrix_mb;
@@ -366,7 +393,10 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
     std::vector<FormFactorMatrix> matrices;
     for (const auto& m : c.methods) {
         estimators.push_back(make_form_factor_estimator(m, P, visibility.get(), c.ff));
-        matrices.push_back(FormFactorMatrix::build(*estimators.back(), P.size(), c.max_matrix_mb << 20));
+        ProgressLine progress(!o.quiet);
+        matrices.push_back(FormFactorMatrix::build(*estimators.back(), P.size(), c.max_matrix_mb << 20,
+                                                   [&](std::size_t d, std::size_t t) { progress.rows(d, t); }));
+        progress.finish();
         if (!o.quiet) std::cout << m << " form factors: " << matrices.back().seconds() << " s\n";
     }
     SolverOptions ref_options;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -25,7 +26,9 @@ public:
 
     /// Builds every row, in parallel over rows on all cores. Checks the memory first: throws
     /// ResourceLimitError naming the size, before allocating, when it exceeds max_bytes.
-    static FormFactorMatrix build(const FormFactorEstimator& estimator, std::size_t n, std::size_t max_bytes);
+    /// `progress(rows_done, n)` is called from worker threads (it must be thread-safe).
+    static FormFactorMatrix build(const FormFactorEstimator& estimator, std::size_t n, std::size_t max_bytes,
+                                  const std::function<void(std::size_t, std::size_t)>& progress = {});
 
     /// A matrix from given values (row-major n x n), e.g. an exactly stochastic test system.
     static FormFactorMatrix from_values(std::size_t n, std::vector<float> values);
