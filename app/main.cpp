@@ -160,7 +160,8 @@ void write_log_csv(const std::filesystem::path& path, const std::vector<SolveRes
     {
         std::ofstream out(tmp);
         if (!out) throw InputError(path.string() + ": cannot write");
-        out << "form_factors,solver,step,seconds,form_factor_seconds,residual,unshot_fraction,rms_error,max_error\n";
+        out << "form_factors,solver,step,seconds,form_factor_seconds,residual,unshot_fraction,rms_error,max_error,"
+               "ambient_rms_error\n";
         out.precision(10);
         auto opt = [&](double v) {
             if (v < 0) return std::string();
@@ -173,7 +174,7 @@ void write_log_csv(const std::filesystem::path& path, const std::vector<SolveRes
             for (const auto& r : runs[k].log)
                 out << form_factors[k] << ',' << runs[k].solver << ',' << r.step << ',' << r.seconds << ','
                     << ff_seconds[k] << ',' << opt(r.residual) << ',' << opt(r.unshot_fraction) << ','
-                    << opt(r.rms_error) << ',' << opt(r.max_error) << '\n';
+                    << opt(r.rms_error) << ',' << opt(r.max_error) << ',' << opt(r.ambient_rms_error) << '\n';
     }
     std::filesystem::rename(tmp, path);
 }

@@ -12,6 +12,7 @@ namespace bounce {
 ///  - non-planar polygons (a vertex further than 1% of the face's size from its Newell
 ///    plane) are split into triangles; nearly planar ones are projected onto that plane
 ///    (with a warning when a vertex moves by more than 0.1% of the face's size);
+///  - faces whose interiors cross (self-intersections) are reported, not changed;
 /// Throws InputError when no face is left (an empty scene).
 void check_geometry(Scene& scene, const std::string& source);
 

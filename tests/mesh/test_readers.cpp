@@ -175,3 +175,27 @@ TEST(CornellBox, MatchesThePublishedDataAndFacesInwards) {
         }
     }
 }
+
+TEST(GeometryCheck, CrossingFacesAreReportedAndTouchingOnesAreNot) {
+    test::TempDir dir;
+    // Two squares crossing through each other's middle, and a third standing on the first
+    // along its edge (touching only).
+    const auto f = dir.write("x.obj",
+                             "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\n"
+                             "v 1 -1 -1\nv 1 3 -1\nv 1 3 1\nv 1 -1 1\n"
+                             "v 0 0 0\nv 0 2 0\nv 0 2 2\nv 0 0 2\n"
+                             "f 1 2 3 4\nf 5 6 7 8\nf 9 10 11 12\n");
+    const Scene s = load_scene(f.string());
+    int crossings = 0;
+    for (const auto& w : s.warnings)
+        if (w.find("self-intersection") != std::string::npos) {
+            ++crossings;
+            EXPECT_NE(w.find("x.obj:13"), std::string::npos) << w;
+            EXPECT_NE(w.find("x.obj:14"), std::string::npos) << w;
+        }
+    EXPECT_EQ(crossings, 1);
+    // The Cornell box's blocks stand on the floor and its walls meet at corners: no crossings.
+    for (const auto& w : load_scene("cornell").warnings) EXPECT_EQ(w.find("self-intersection"), std::string::npos) << w;
+    for (const auto& w : load_scene(test::fixture("cornell_box.obj").string()).warnings)
+        EXPECT_EQ(w.find("self-intersection"), std::string::npos) << w;
+}
