@@ -2,7 +2,11 @@
 // The `bounce` command line: thin over the mesh, solver and viewer libraries.
 #include <unistd.h>
 
+#include <atomic>
+#include <csignal>
+
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +14,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <thread>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -24,6 +29,7 @@
 #include "solver/gathering_solver.h"
 #include "solver/solver.h"
 #include "viewer/charts.h"
+#include "viewer/pending_output.h"
 #include "viewer/renderer.h"
 #include "viewer/series_writer.h"
 #include "solver/shooting_solver.h"
@@ -35,12 +41,89 @@ namespace {
 
 using namespace bounce;
 
+// SIGINT/SIGTERM: the first asks the running work to stop (the solution so far is written,
+// marked not converged); a second exits at once, removing the temporary file being written.
+std::atomic<bool> g_interrupted{false};
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void on_signal(int sig) {
+    if (g_signal != 0) {
+        if (const char* p = pending_output()) ::unlink(p);
+        ::_exit(128 + sig);
+    }
+    g_signal = sig;
+    g_interrupted.store(true);
+}
+
+void install_signal_handlers() {
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = 0;
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+}
+
+int interrupted_exit_code() { return g_signal ? 128 + int(g_signal) : 0; }
+
+/// "> 0", with a readable message (CLI11's PositiveNumber prints the whole double range).
+const CLI::Validator kPositive(
+    [](std::string& v) {
+        try {
+            std::size_t used = 0;
+            const double x = std::stod(v, &used);
+            if (used == v.size() && std::isfinite(x) && x > 0) return std::string();
+        } catch (const std::exception&) {
+        }
+        return "must be a number > 0, got '" + v + "'";
+    },
+    "> 0");
+
+void print_warnings(const Scene& scene, bool quiet) {
+    if (quiet) return;
+    for (const auto& w : scene.warnings) std::cerr << "warning: " << w << "\n";
+}
+
 struct CommonOptions {
     std::string scene = "cornell";
     MeshingOptions meshing;
     bool quiet = false;
+    bool strict = false;
     int threads = 0;
+    std::size_t max_memory_mb = 16384;
 };
+
+// Memory estimates, checked before the allocation they stand for.
+constexpr std::size_t kBytesPerPatch = 1024;  // Patch, OpenMesh face and vertices, AABB triangles, solver vectors
+
+/// Loads and meshes with the limits of --max-memory and --strict applied.
+PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& scene) {
+    scene = load_scene(spec);
+    if (o.strict && !scene.warnings.empty()) throw InputError(scene.warnings.front() + " (--strict)");
+    print_warnings(scene, o.quiet);
+    MeshingOptions m = o.meshing;
+    m.max_patches = std::min(m.max_patches, (o.max_memory_mb << 20) / kBytesPerPatch);
+    return PatchMesh(scene, m);
+}
+
+/// Refuses work whose estimate exceeds --max-memory, naming the estimate.
+void check_memory(const CommonOptions& o, const std::string& what, double bytes) {
+    if (bytes > double(o.max_memory_mb << 20)) {
+        std::ostringstream msg;
+        msg.precision(1);
+        msg << std::fixed << what << " needs about " << bytes / double(1 << 20) << " MB, over --max-memory "
+            << o.max_memory_mb << " MB";
+        throw ResourceLimitError(msg.str());
+    }
+}
+
+void check_form_factor_memory(const CommonOptions& o, const std::string& method, const FormFactorOptions& f) {
+    if (method != "hemicube") return;
+    const double r = f.hemicube_resolution;
+    const double threads = o.threads > 0 ? o.threads : double(std::thread::hardware_concurrency());
+    check_memory(o, "hemicube buffers (" + std::to_string(f.hemicube_resolution) + " pixels a side, per thread)",
+                 threads * r * r * 1.5 * 12.0 + 1.0);
+}
 
 void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o);
 
@@ -52,9 +135,12 @@ void add_meshing_options(CLI::App* cmd, CommonOptions& o) {
 void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
     cmd->add_option("--max-area", o.meshing.max_area,
                     "largest patch area (scene units^2); default: total area / 2000")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kPositive);
     cmd->add_option("--max-edge", o.meshing.max_edge, "longest patch edge (scene units)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kPositive);
+    cmd->add_option("--max-memory", o.max_memory_mb, "refuse work estimated above this many MB (16384)")
+        ->check(kPositive);
+    cmd->add_flag("--strict", o.strict, "treat every warning about the input (materials, degenerate, non-planar or crossing faces) as an error");
     cmd->add_flag("--no-subdivide", [&o](std::int64_t) { o.meshing.subdivide = false; },
                   "one patch per input face");
     cmd->add_flag("-q,--quiet", o.quiet, "no progress line, no warnings");
@@ -72,10 +158,6 @@ void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
     cmd->add_option("--seed", f.seed, "seed of the rays and rotations");
 }
 
-void print_warnings(const Scene& scene, bool quiet) {
-    if (quiet) return;
-    for (const auto& w : scene.warnings) std::cerr << "warning: " << w << "\n";
-}
 
 /// A one-line progress display on a terminal, at most five updates a second.
 class ProgressLine {
@@ -124,9 +206,8 @@ std::string default_output(const std::string& scene) {
 }
 
 int run_info(const CommonOptions& o) {
-    Scene scene = load_scene(o.scene);
-    print_warnings(scene, o.quiet);
-    PatchMesh mesh(scene, o.meshing);
+    Scene scene;
+    PatchMesh mesh = load_and_mesh(o, o.scene, scene);
     const Rgb e = mesh.emitted_power();
     std::cout << "scene:          " << scene.name << "\n"
               << "surfaces:       " << scene.surfaces.size() << "\n"
@@ -157,6 +238,7 @@ struct SolveCommand {
 void write_log_csv(const std::filesystem::path& path, const std::vector<SolveResult>& runs,
                    const std::vector<std::string>& form_factors, const std::vector<double>& ff_seconds) {
     const std::filesystem::path tmp = path.string() + ".tmp";
+    const PendingOutput pending(tmp.c_str());
     {
         std::ofstream out(tmp);
         if (!out) throw InputError(path.string() + ": cannot write");
@@ -190,11 +272,12 @@ struct FormFactorCommand {
 /// Builds the whole matrix, writes "i,j,F_ij,row_sum_i" for its non-zero entries and, with
 /// --check, prints row sums and the reciprocity error max |A_i F_ij - A_j F_ji| / (A_i F_ij).
 int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
-    Scene scene = load_scene(o.scene);
-    print_warnings(scene, o.quiet);
-    PatchMesh mesh(scene, o.meshing);
+    Scene scene;
+    PatchMesh mesh = load_and_mesh(o, o.scene, scene);
     const auto& P = mesh.patches();
     const std::size_t n = P.size();
+    check_form_factor_memory(o, c.method, c.ff);
+    check_memory(o, "the form-factor matrix (" + std::to_string(n) + " patches)", double(n) * double(n) * 4);
     // Refuse before anything large is built.
     if (FormFactorMatrix::bytes_for(n) > (c.max_matrix_mb << 20))
         throw ResourceLimitError("form-factor matrix of " + std::to_string(n) + " patches needs " +
@@ -204,7 +287,7 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
     const auto ff = make_form_factor_estimator(c.method, P, visibility.get(), c.ff);
     ProgressLine progress(!o.quiet);
     const auto F = FormFactorMatrix::build(*ff, n, c.max_matrix_mb << 20,
-                                           [&](std::size_t d, std::size_t t) { progress.rows(d, t); });
+                                           [&](std::size_t d, std::size_t t) { progress.rows(d, t); }, &g_interrupted);
     progress.finish();
     std::vector<double> sums(n, 0.0);
     for (std::size_t i = 0; i < n; ++i)
@@ -265,10 +348,13 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     check_output(out);
     if (!s.log_csv.empty()) check_output(s.log_csv);
 
-    Scene scene = load_scene(o.scene);
-    print_warnings(scene, o.quiet);
-    PatchMesh mesh(scene, o.meshing);
+    Scene scene;
+    PatchMesh mesh = load_and_mesh(o, o.scene, scene);
     const auto& P = mesh.patches();
+    const double n = double(P.size());
+    check_form_factor_memory(o, s.method, s.ff);
+    if (s.solver != "shooting") check_memory(o, "the form-factor matrix (" + std::to_string(P.size()) + " patches)", n * n * 4);
+    if (s.solver == "direct") check_memory(o, "the direct solver (matrix and LU factors)", n * n * 12);
     const auto visibility = make_cgal_visibility(P);
     const auto ff = make_form_factor_estimator(s.method, P, visibility.get(), s.ff);
     const bool shooting = s.solver == "shooting";
@@ -276,7 +362,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     std::optional<FormFactorMatrix> matrix;
     if (s.solver != "shooting") {
         matrix = FormFactorMatrix::build(*ff, P.size(), s.max_matrix_mb << 20,
-                                         [&](std::size_t d, std::size_t t) { progress.rows(d, t); });
+                                         [&](std::size_t d, std::size_t t) { progress.rows(d, t); }, &g_interrupted);
         progress.finish();
     }
     if (matrix) {
@@ -289,6 +375,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     SolverOptions so = s.options;
     so.progress = [&](const SolveProgress& p) { progress.update(p); };
     so.max_matrix_mb = s.max_matrix_mb;
+    so.cancel = &g_interrupted;
     std::optional<SeriesWriter> series;
     const ExportInfo info{o.scene, ""};
     if (s.series > 0) {
@@ -308,6 +395,11 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
              << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
              << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance;
     write_vtu(out, mesh, res, {o.scene, settings.str()}, s.ascii);
+    if (interrupted_exit_code()) {
+        std::cerr << "bounce: interrupted after " << res.steps << " steps; wrote the solution so far to " << out.string()
+                  << " (converged = 0)\n";
+        return interrupted_exit_code();
+    }
     if (series) series->finish(res);
     if (!s.png.empty()) render_solution(mesh, res, {o.scene, settings.str()}, s.png, s.render);
     if (!s.log_csv.empty()) write_log_csv(s.log_csv, {res}, {s.method}, {matrix ? matrix->seconds() : 0.0});
@@ -357,9 +449,8 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
         interactive ? view_vtu(r.input, r.render, r.exit_after) : render_vtu(r.input, r.output, r.render);
         return 0;
     }
-    Scene scene = load_scene(r.input);
-    print_warnings(scene, o.quiet);
-    PatchMesh mesh(scene, o.meshing);
+    Scene scene;
+    PatchMesh mesh = load_and_mesh(o, r.input, scene);
     const auto visibility = make_cgal_visibility(mesh.patches());
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
     const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
@@ -385,10 +476,13 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
     std::error_code ec;
     std::filesystem::create_directories(c.out, ec);
     if (!std::filesystem::is_directory(c.out)) throw InputError(c.out + ": cannot create the output directory");
-    Scene scene = load_scene(o.scene);
-    print_warnings(scene, o.quiet);
-    PatchMesh mesh(scene, o.meshing);
+    Scene scene;
+    PatchMesh mesh = load_and_mesh(o, o.scene, scene);
     const auto& P = mesh.patches();
+    const double n = double(P.size());
+    for (const auto& m : c.methods) check_form_factor_memory(o, m, c.ff);
+    check_memory(o, "the form-factor matrices and the reference (" + std::to_string(P.size()) + " patches)",
+                 n * n * (4.0 * double(c.methods.size()) + (P.size() <= c.max_direct ? 8.0 : 0.0)));
     const auto visibility = make_cgal_visibility(P);
     std::vector<std::unique_ptr<FormFactorEstimator>> estimators;
     std::vector<FormFactorMatrix> matrices;
@@ -396,7 +490,8 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
         estimators.push_back(make_form_factor_estimator(m, P, visibility.get(), c.ff));
         ProgressLine progress(!o.quiet);
         matrices.push_back(FormFactorMatrix::build(*estimators.back(), P.size(), c.max_matrix_mb << 20,
-                                                   [&](std::size_t d, std::size_t t) { progress.rows(d, t); }));
+                                                   [&](std::size_t d, std::size_t t) { progress.rows(d, t); },
+                                                   &g_interrupted));
         progress.finish();
         if (!o.quiet) std::cout << m << " form factors: " << matrices.back().seconds() << " s\n";
     }
@@ -472,7 +567,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember(bounce::solver_names()));
     solve_cmd->add_option("--tolerance", solve.options.tolerance,
                           "stop below this unshot fraction (shooting) or relative residual (others); 1e-3")
-        ->check(CLI::PositiveNumber);
+        ->check(kPositive);
     solve_cmd->add_option("--max-shots,--max-iterations", solve.options.max_iterations,
                           "stop after this many shots or sweeps (default 100 N shots, 10000 sweeps)");
     solve_cmd->add_option("--max-seconds", solve.options.max_seconds, "stop after this many seconds")
@@ -508,7 +603,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember(bounce::form_factor_methods()));
     cmp_cmd->add_option("--out", cmp.out, "output folder (default: compare)");
     cmp_cmd->add_option("--tolerance", cmp.options.tolerance, "stopping tolerance of each solver")
-        ->check(CLI::PositiveNumber);
+        ->check(kPositive);
     cmp_cmd->add_option("--max-iterations", cmp.options.max_iterations, "shots or sweeps limit");
     cmp_cmd->add_option("--sor", cmp.options.sor, "over-relaxation for jacobi and gauss-seidel")->check(CLI::Range(0.0, 2.0));
     cmp_cmd->add_option("--max-matrix-mb", cmp.max_matrix_mb, "refuse a matrix larger than this (MB)");
@@ -540,6 +635,7 @@ int main(int argc, char** argv) {
         std::cerr << "bounce: " << e.what() << " (see --help)\n";
         return 2;
     }
+    install_signal_handlers();
     std::optional<tbb::global_control> threads;
     if (common.threads > 0)
         threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(common.threads));
@@ -553,6 +649,9 @@ int main(int argc, char** argv) {
     } catch (const bounce::InputError& e) {
         std::cerr << "bounce: error: " << e.what() << "\n";
         return 2;
+    } catch (const bounce::Interrupted& e) {
+        std::cerr << "bounce: " << e.what() << "; nothing written\n";
+        return interrupted_exit_code() ? interrupted_exit_code() : 130;
     } catch (const bounce::SingularSystemError& e) {
         std::cerr << "bounce: error: " << e.what() << "\n";
         return 2;

@@ -84,7 +84,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     if (planned > double(options.max_patches)) {
         std::ostringstream msg;
         msg << "meshing would make " << planned << " patches, more than the limit of " << options.max_patches
-            << " (raise --max-area or --max-edge)";
+            << " (raise --max-area or --max-edge, or --max-memory)";
         throw InputError(msg.str());
     }
 

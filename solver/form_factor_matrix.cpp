@@ -11,7 +11,8 @@
 namespace bounce {
 
 FormFactorMatrix FormFactorMatrix::build(const FormFactorEstimator& estimator, std::size_t n, std::size_t max_bytes,
-                                         const std::function<void(std::size_t, std::size_t)>& progress) {
+                                         const std::function<void(std::size_t, std::size_t)>& progress,
+                                         const std::atomic<bool>* cancel) {
     const std::size_t need = bytes_for(n);
     if (n != 0 && (need / n / sizeof(float) != n || need > max_bytes))
         throw ResourceLimitError("form-factor matrix of " + std::to_string(n) + " patches needs " +
@@ -23,11 +24,14 @@ FormFactorMatrix FormFactorMatrix::build(const FormFactorEstimator& estimator, s
     m.m_f.resize(n * n);
     std::atomic<std::size_t> done{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i)
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            if (cancel && cancel->load()) return;
             estimator.compute_row(i, std::span<float>(m.m_f.data() + i * n, n));
+        }
         const std::size_t d = done += range.size();
         if (progress) progress(d, n);
     });
+    if (cancel && cancel->load()) throw Interrupted("interrupted while computing form factors");
     m.m_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return m;
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <stdexcept>
@@ -10,6 +11,12 @@
 #include "solver/form_factor_estimator.h"
 
 namespace bounce {
+
+/// Work stopped on request (a signal) before it had a result.
+class Interrupted : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
 
 /// A request for more memory than the user allowed; the CLI exits with code 2.
 class ResourceLimitError : public std::runtime_error {
@@ -27,8 +34,10 @@ public:
     /// Builds every row, in parallel over rows on all cores. Checks the memory first: throws
     /// ResourceLimitError naming the size, before allocating, when it exceeds max_bytes.
     /// `progress(rows_done, n)` is called from worker threads (it must be thread-safe).
+    /// When `cancel` becomes true the build stops and throws Interrupted.
     static FormFactorMatrix build(const FormFactorEstimator& estimator, std::size_t n, std::size_t max_bytes,
-                                  const std::function<void(std::size_t, std::size_t)>& progress = {});
+                                  const std::function<void(std::size_t, std::size_t)>& progress = {},
+                                  const std::atomic<bool>* cancel = nullptr);
 
     /// A matrix from given values (row-major n x n), e.g. an exactly stochastic test system.
     static FormFactorMatrix from_values(std::size_t n, std::vector<float> values);

@@ -152,6 +152,10 @@ SolveResult GatheringSolver::solve() {
             res.status = "max seconds";
             break;
         }
+        if (m_options.cancel && m_options.cancel->load()) {
+            res.status = "interrupted";
+            break;
+        }
     }
     res.radiosity = B;
     res.seconds = seconds_since(t0);

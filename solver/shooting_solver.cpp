@@ -106,6 +106,10 @@ SolveResult ShootingSolver::solve() {
             break;
         }
         if (res.steps >= max_shots) break;
+        if (m_options.cancel && m_options.cancel->load()) {
+            res.status = "interrupted";
+            break;
+        }
         if (m_options.max_seconds > 0 && seconds() > m_options.max_seconds) {
             res.status = "max seconds";
             break;

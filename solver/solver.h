@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <string>
@@ -25,6 +26,7 @@ struct SolverOptions {
     std::size_t max_matrix_mb = 2048;  // direct: refuse larger dense systems
     const std::vector<Rgb>* reference = nullptr;         // for the error columns of the log
     std::function<void(const SolveProgress&)> progress;  // after every shot or sweep
+    const std::atomic<bool>* cancel = nullptr;  // set (e.g. by SIGINT): stop after this step, status "interrupted"
     std::size_t snapshot_every = 0;    // call `snapshot` every this many shots or sweeps (0: never)
     std::function<void(std::size_t step, const std::vector<Rgb>& radiosity)> snapshot;
 };

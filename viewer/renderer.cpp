@@ -29,6 +29,7 @@
 #include <vtkWindowToImageFilter.h>
 
 #include "mesh/input_error.h"
+#include "viewer/pending_output.h"
 #include "viewer/solution_grid.h"
 #include "viewer/tone_map.h"
 #include "viewer/virtual_display.h"
@@ -177,6 +178,7 @@ void render_grid(vtkUnstructuredGrid* g, const std::filesystem::path& png, const
     grab->Update();
     std::filesystem::path tmp = png;
     tmp += ".tmp-" + std::to_string(::getpid()) + ".png";
+    const PendingOutput pending(tmp.c_str());
     vtkNew<vtkPNGWriter> writer;
     writer->SetFileName(tmp.string().c_str());
     writer->SetInputConnection(grab->GetOutputPort());

@@ -18,6 +18,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include "viewer/pending_output.h"
 #include "viewer/solution_grid.h"
 #include "viewer/version.h"
 #include "mesh/input_error.h"
@@ -170,6 +171,7 @@ void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid, bo
     // Temporary name in the same directory, so the final rename is atomic.
     std::filesystem::path tmp = path;
     tmp += ".tmp-" + std::to_string(::getpid());
+    const PendingOutput pending(tmp.c_str());
     vtkNew<vtkXMLUnstructuredGridWriter> writer;
     writer->SetFileName(tmp.string().c_str());
     writer->SetInputData(grid);

@@ -225,3 +225,78 @@ TEST(Cli, CompareWritesTheLogAndBothCharts) {
         EXPECT_EQ(decoded.out, "True\n") << png;
     }
 }
+
+namespace {
+bool no_temporaries(const std::filesystem::path& dir) {
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        if (e.path().filename().string().find(".tmp") != std::string::npos) return false;
+    return true;
+}
+}  // namespace
+
+TEST(Cli, InterruptWritesTheSolutionSoFarMarkedNotConverged) {
+    test::TempDir dir;
+    for (const auto& [sig, code] : {std::pair{"INT", 130}, {"TERM", 143}}) {
+        const auto out = dir / (std::string(sig) + ".vtu");
+        // About 11000 patches: the solve runs for minutes; the signal comes after 3 s.
+        const auto r = test::run("timeout --preserve-status -s " + std::string(sig) + " 3 " + kExe +
+                                 " solve --max-area 150 --ascii -o " + out.string());
+        EXPECT_EQ(r.exit_code, code) << r.err;
+        EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+        const std::string vtu = slurp(out);
+        const auto at = vtu.find("Name=\"converged\"");
+        ASSERT_NE(at, std::string::npos);
+        const auto value = vtu.find('>', at) + 1;
+        EXPECT_EQ(std::stod(vtu.substr(value, 40)), 0.0);
+        EXPECT_NE(vtu.find("</VTKFile>"), std::string::npos) << "complete XML";
+        EXPECT_TRUE(no_temporaries(dir.path()));
+    }
+}
+
+TEST(Cli, ASecondSignalExitsAtOnceWithoutAPartialFile) {
+    test::TempDir dir;
+    const auto out = dir / "twice.vtu";
+    const auto r = test::run("sh -c '" + kExe + " solve --max-area 150 -q -o " + out.string() +
+                             " & pid=$!; sleep 3; kill -INT $pid; kill -INT $pid; wait $pid; exit $?'");
+    EXPECT_EQ(r.exit_code, 130) << r.err;
+    EXPECT_TRUE(no_temporaries(dir.path()));
+    // Either nothing was written, or the whole file was (the rename is atomic).
+    if (std::filesystem::exists(out)) EXPECT_NE(slurp(out).find("</VTKFile>"), std::string::npos);
+}
+
+TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
+    test::TempDir dir;
+    struct Case {
+        std::string args, expect;
+    };
+    const std::vector<Case> cases = {
+        {"--max-area 0", "must be a number > 0"},
+        {"--max-edge -3", "must be a number > 0"},
+        {"--max-area 1e-6", "1.93746e+12 patches"},                       // ~10^12 patches
+        {"--hemicube-res 1000000 --form-factors hemicube", "--hemicube-res"},
+        {"--form-factors hemicube --hemicube-res 4096 --max-memory 100", "hemicube buffers"},
+        {"--max-area 4000 --max-memory 1 --solver jacobi", "form-factor matrix (537 patches) needs about 1.1 MB"},
+        {"--max-area 4000 --max-memory 3 --solver direct", "direct solver"},
+        {"--max-memory 1", "more than the limit of 1024"},
+    };
+    for (const auto& c : cases) {
+        const auto out = dir / "x.vtu";
+        const auto r = bounce_run("solve -q " + c.args + " -o " + out.string());
+        EXPECT_EQ(r.exit_code, 2) << c.args << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1) << c.args << ": " << r.err;
+        EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.args << ": " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(out));
+    }
+}
+
+TEST(Cli, StrictTurnsGeometryWarningsIntoErrors) {
+    test::TempDir dir;
+    dir.write("z.mtl", "newmtl w\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
+    const auto scene = dir.write("z.obj", "mtllib z.mtl\nusemtl w\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 3 4 5\nf 3 4 6\n");
+    const auto r = bounce_run("solve " + scene.string() + " --strict -o " + (dir / "z.vtu").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("z.obj:8"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("degenerate"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "z.vtu"));
+}

@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+namespace bounce {
+
+/// The temporary file being written right now (outputs are written to a temporary file and
+/// renamed). A signal handler that must exit at once removes it with unlink(), which is
+/// async-signal-safe, so an interrupted run never leaves a partial file behind.
+void set_pending_output(const char* path);  // nullptr: none
+const char* pending_output();               // safe to call from a signal handler
+
+/// Registers `path` for the lifetime of the object.
+class PendingOutput {
+public:
+    explicit PendingOutput(const char* path) { set_pending_output(path); }
+    ~PendingOutput() { set_pending_output(nullptr); }
+    PendingOutput(const PendingOutput&) = delete;
+    PendingOutput& operator=(const PendingOutput&) = delete;
+};
+
+}  // namespace bounce
