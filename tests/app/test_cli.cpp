@@ -292,7 +292,7 @@ TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
 TEST(Cli, StrictTurnsGeometryWarningsIntoErrors) {
     test::TempDir dir;
     dir.write("z.mtl", "newmtl w\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
-    const auto scene = dir.write("z.obj", "mtllib z.mtl\nusemtl w\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 3 4 5\nf 3 4 6\n");
+    const auto scene = dir.write("z.obj", "mtllib z.mtl\nusemtl w\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
     const auto r = bounce_run("solve " + scene.string() + " --strict -o " + (dir / "z.vtu").string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_EQ(lines(r.err), 1) << r.err;
