@@ -15,6 +15,12 @@ std::string read_text_file(const std::filesystem::path& path, std::string_view w
     if (!std::filesystem::exists(path, ec)) throw InputError(p + ": " + std::string(what) + " not found");
     if (std::filesystem::is_directory(path, ec))
         throw InputError(p + ": is a directory, expected " + std::string(what));
+    // Devices and pipes (/dev/zero, a FIFO) never end; only regular files are read.
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw InputError(p + ": not a regular file, expected " + std::string(what));
+    const auto size = std::filesystem::file_size(path, ec);
+    if (!ec && size > (std::uintmax_t(1) << 30))
+        throw InputError(p + ": larger than 1 GiB, not read as " + std::string(what));
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(p + ": cannot open " + std::string(what));
     std::ostringstream ss;

@@ -5,7 +5,8 @@ PKGS=(build-essential cmake pkg-config
       libcgal-dev libopenmesh-dev libglm-dev libvtk9-dev
       libtbb-dev nlohmann-json3-dev libcli11-dev
       libgtest-dev libgmock-dev libbenchmark-dev
-      python3-vtk9 python3-meshio python3-matplotlib xvfb xauth)
+      python3-vtk9 python3-meshio python3-matplotlib xvfb xauth
+      clang libclang-rt-14-dev)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
