@@ -122,9 +122,10 @@ Scene read_json_scene(const std::filesystem::path& path) {
     json doc;
     try {
         doc = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {
+        // parse_error, and out_of_range for numbers too large for a double (found by fuzzing).
         std::string msg = e.what();
-        if (auto p = msg.find("parse error"); p != std::string::npos) msg = msg.substr(p);
+        if (auto p = msg.find("] "); p != std::string::npos) msg = msg.substr(p + 2);
         throw InputError(path.string() + ": " + msg);
     }
     Context top{path.string()};

@@ -102,6 +102,7 @@ TEST(Cli, BadInputGivesOneLineExitTwoAndNoOutput) {
         {(dir / "missing.obj").string(), "not found"},
         {dir.write("malformed.obj", "v 0 0 0\nv 1 0\n").string(), "malformed.obj:2"},
         {dir.write("nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n").string(), "nan.obj:2"},
+        {dir.write("inf.obj", "v 0 0 0\nv 1 0 0\nv 0 -inf 0\nf 1 2 3\n").string(), "inf.obj:3"},
         {dir.write("index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n").string(), "index.obj:4"},
         {dir.write("rho.obj", "mtllib bad.mtl\n").string(), "bad.mtl:2"},
         {dir.write("emission.obj", "mtllib neg.mtl\n").string(), "neg.mtl:2"},
@@ -299,4 +300,10 @@ TEST(Cli, StrictTurnsGeometryWarningsIntoErrors) {
     EXPECT_NE(r.err.find("z.obj:8"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("degenerate"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "z.vtu"));
+    const auto bent = dir.write("np.obj", "mtllib z.mtl\nusemtl w\nv 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nf 1 2 3 4\n");
+    const auto np = bounce_run("solve " + bent.string() + " --strict -o " + (dir / "np.vtu").string());
+    EXPECT_EQ(np.exit_code, 2);
+    EXPECT_NE(np.err.find("np.obj:7"), std::string::npos) << np.err;
+    EXPECT_NE(np.err.find("non-planar"), std::string::npos) << np.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "np.vtu"));
 }

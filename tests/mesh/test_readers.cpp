@@ -199,3 +199,12 @@ TEST(GeometryCheck, CrossingFacesAreReportedAndTouchingOnesAreNot) {
     for (const auto& w : load_scene(test::fixture("cornell_box.obj").string()).warnings)
         EXPECT_EQ(w.find("self-intersection"), std::string::npos) << w;
 }
+
+TEST(JsonScene, FuzzRegressionNumberTooLargeIsAnInputError) {
+    // Found by fuzz_json: nlohmann throws out_of_range, not parse_error, for this number.
+    test::TempDir dir;
+    const auto f = dir.write("big.json", "6666666666666666660066666666686e2049423y\n\n}#{\n  \"");
+    expect_input_error([&] { read_json_scene(f); }, {"big.json", "number overflow"});
+    const auto g = dir.write("big2.json", R"({"objects": [{"type": "quad", "transform": {"scale": 1e999}}]})");
+    expect_input_error([&] { read_json_scene(g); }, {"big2.json"});
+}
