@@ -52,6 +52,14 @@ const GaussTable& gauss() {
 
 }  // namespace
 
+void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
+    n = std::clamp(n, 1, kMaxGaussPoints);
+    const auto& g = gauss();
+    x.assign(g.x[n], g.x[n] + n);
+    w.resize(n);
+    for (int i = 0; i < n; ++i) w[i] = g.w[n][i];  // already for [0,1]: 1/((1-z^2) P_n'(z)^2)
+}
+
 void patch_quadrature(const Patch& p, int n, std::vector<AreaSample>& out) {
     out.clear();
     if (n <= 1) {

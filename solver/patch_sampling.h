@@ -21,6 +21,9 @@ struct AreaSample {
 /// weighted by the map's Jacobian. Exponential convergence for smooth integrands.
 void patch_quadrature(const Patch& patch, int n, std::vector<AreaSample>& out);
 
+/// Gauss-Legendre nodes and weights on [0,1], n = 1..16 (weights sum to 1).
+void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w);
+
 /// The point of a patch at unit-square coordinates (u, v): bilinear for quads, the
 /// area-uniform square-root warp for triangles.
 glm::dvec3 patch_point(const Patch& patch, double u, double v);

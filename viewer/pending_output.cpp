@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cstring>
+#include <stdexcept>
 
 namespace bounce {
 namespace {
@@ -19,5 +20,19 @@ void set_pending_output(const char* path) {
 }
 
 const char* pending_output() { return g_set ? g_path : nullptr; }
+
+void commit_output(const std::filesystem::path& tmp, const std::filesystem::path& final, bool written,
+                   const std::string& what) {
+    std::error_code ec;
+    if (!written) {
+        std::filesystem::remove(tmp, ec);
+        throw std::runtime_error(final.string() + ": cannot write the " + what);
+    }
+    std::filesystem::rename(tmp, final, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw std::runtime_error(final.string() + ": cannot write the " + what + " (" + ec.message() + ")");
+    }
+}
 
 }  // namespace bounce

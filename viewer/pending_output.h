@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <filesystem>
+#include <string>
+
 namespace bounce {
 
 /// The temporary file being written right now (outputs are written to a temporary file and
@@ -8,6 +11,12 @@ namespace bounce {
 /// async-signal-safe, so an interrupted run never leaves a partial file behind.
 void set_pending_output(const char* path);  // nullptr: none
 const char* pending_output();               // safe to call from a signal handler
+
+/// Finishes an output written to `tmp`: when `written` is false, removes `tmp` and throws;
+/// else renames it to `final` (atomic within a directory), removing it if the rename fails.
+/// Throws std::runtime_error "<final>: cannot write the <what>".
+void commit_output(const std::filesystem::path& tmp, const std::filesystem::path& final, bool written,
+                   const std::string& what);
 
 /// Registers `path` for the lifetime of the object.
 class PendingOutput {

@@ -183,16 +183,7 @@ void render_grid(vtkUnstructuredGrid* g, const std::filesystem::path& png, const
     writer->SetFileName(tmp.string().c_str());
     writer->SetInputConnection(grab->GetOutputPort());
     writer->Write();
-    std::error_code ec;
-    if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp)) {
-        std::filesystem::remove(tmp, ec);
-        throw std::runtime_error(png.string() + ": cannot write the PNG");
-    }
-    std::filesystem::rename(tmp, png, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw std::runtime_error(png.string() + ": cannot write the PNG (" + ec.message() + ")");
-    }
+    commit_output(tmp, png, writer->GetErrorCode() == 0 && std::filesystem::exists(tmp), "PNG");
 }
 
 void keypress(vtkObject* caller, unsigned long, void* client, void*) {

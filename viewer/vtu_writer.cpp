@@ -182,16 +182,7 @@ void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid, bo
         writer->SetCompressorTypeToZLib();
     }
     const int ok = writer->Write();
-    std::error_code ec;
-    if (!ok || writer->GetErrorCode() != 0) {
-        std::filesystem::remove(tmp, ec);
-        throw std::runtime_error(path.string() + ": cannot write the .vtu file");
-    }
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw std::runtime_error(path.string() + ": cannot write the .vtu file (" + ec.message() + ")");
-    }
+    commit_output(tmp, path, ok && writer->GetErrorCode() == 0, ".vtu file");
 }
 
 std::string field_text(vtkFieldData* fd, const char* name) {

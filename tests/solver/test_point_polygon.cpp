@@ -6,35 +6,13 @@
 #include <vector>
 
 #include "solver/reference_form_factors.h"
+#include "solver/patch_sampling.h"
 #include "solver/point_polygon_form_factor.h"
 
 using namespace bounce;
 using V = glm::dvec3;
 
 namespace {
-
-/// Gauss-Legendre nodes and weights on [0,1] (Golub-Welsch-free: Newton on P_n).
-void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
-    x.resize(n);
-    w.resize(n);
-    for (int i = 0; i < n; ++i) {
-        double z = std::cos(std::numbers::pi * (i + 0.75) / (n + 0.5)), dp = 0;
-        for (int it = 0; it < 100; ++it) {
-            double p0 = 1, p1 = z;
-            for (int k = 2; k <= n; ++k) {
-                const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n * (z * p1 - p0) / (z * z - 1);
-            const double dz = p1 / dp;
-            z -= dz;
-            if (std::abs(dz) < 1e-16) break;
-        }
-        x[i] = 0.5 * (1 - z);
-        w[i] = 1.0 / ((1 - z * z) * dp * dp) * 2 * 0.5;
-    }
-}
 
 /// Panels on [0,1] graded geometrically towards both ends, where the integrand of a
 /// touching pair is singular in its derivative.
