@@ -262,7 +262,9 @@ TEST(Cli, ASecondSignalExitsAtOnceWithoutAPartialFile) {
     EXPECT_EQ(r.exit_code, 130) << r.err;
     EXPECT_TRUE(no_temporaries(dir.path()));
     // Either nothing was written, or the whole file was (the rename is atomic).
-    if (std::filesystem::exists(out)) EXPECT_NE(slurp(out).find("</VTKFile>"), std::string::npos);
+    if (std::filesystem::exists(out)) {
+        EXPECT_NE(slurp(out).find("</VTKFile>"), std::string::npos);
+    }
 }
 
 TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
