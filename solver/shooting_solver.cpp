@@ -50,16 +50,20 @@ SolveResult ShootingSolver::solve() {
     }
     // Ambient term: unshot power spread over all area, inter-reflected by the mean
     // reflectance (Cohen et al. 1988, eq. 5-6). For display only; B itself is untouched.
+    auto ambient_of = [&](const Rgb& unshot_power) {
+        Rgb ambient;
+        for (int c = 0; c < 3; ++c) {
+            const double mean_rho = rho_area[c] / area;
+            ambient[c] = mean_rho < 1.0 ? unshot_power[c] / area / (1.0 - mean_rho) : 0.0;
+        }
+        return ambient;
+    };
     auto with_ambient = [&](std::vector<Rgb>& out) {
         Rgb unshot_power;
         for (std::size_t i = 0; i < n; ++i) unshot_power += res.unshot[i] * m_patches[i].area;
+        const Rgb ambient = ambient_of(unshot_power);
         out.resize(n);
-        for (int c = 0; c < 3; ++c) {
-            const double mean_rho = rho_area[c] / area;
-            const double ambient = mean_rho < 1.0 ? unshot_power[c] / area / (1.0 - mean_rho) : 0.0;
-            for (std::size_t i = 0; i < n; ++i)
-                out[i][c] = res.radiosity[i][c] + m_patches[i].reflectance[c] * ambient;
-        }
+        for (std::size_t i = 0; i < n; ++i) out[i] = res.radiosity[i] + m_patches[i].reflectance * ambient;
     };
     std::vector<Rgb> display;
     std::size_t next_log = 0;
@@ -140,10 +144,7 @@ SolveResult ShootingSolver::solve() {
             // Over-shooting (Feda and Purgathofer 1991): also shoot the radiosity the patch will
             // still receive, estimated as rho_i times the ambient term; what was shot in advance
             // stays behind as negative unshot radiosity and is corrected later.
-            for (int c = 0; c < 3; ++c) {
-                const double mean_rho = rho_area[c] / area;
-                if (mean_rho < 1.0) shot[c] += m_patches[shooter].reflectance[c] * unshot_signed[c] / area / (1.0 - mean_rho);
-            }
+            shot += m_patches[shooter].reflectance * ambient_of(unshot_signed);
         }
         res.unshot[shooter] -= shot;
         Rgb arrived;
