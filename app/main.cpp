@@ -237,11 +237,7 @@ struct SolveCommand {
 /// (empty where a quantity was not computed), through a temporary file.
 void write_log_csv(const std::filesystem::path& path, const std::vector<SolveResult>& runs,
                    const std::vector<std::string>& form_factors, const std::vector<double>& ff_seconds) {
-    const std::filesystem::path tmp = path.string() + ".tmp";
-    const PendingOutput pending(tmp.c_str());
-    {
-        std::ofstream out(tmp);
-        if (!out) throw InputError(path.string() + ": cannot write");
+    write_text_file(path, [&](std::ostream& out) {
         out << "form_factors,solver,step,seconds,form_factor_seconds,residual,unshot_fraction,rms_error,max_error,"
                "ambient_rms_error\n";
         out.precision(10);
@@ -257,8 +253,7 @@ void write_log_csv(const std::filesystem::path& path, const std::vector<SolveRes
                 out << form_factors[k] << ',' << runs[k].solver << ',' << r.step << ',' << r.seconds << ','
                     << ff_seconds[k] << ',' << opt(r.residual) << ',' << opt(r.unshot_fraction) << ','
                     << opt(r.rms_error) << ',' << opt(r.max_error) << ',' << opt(r.ambient_rms_error) << '\n';
-    }
-    std::filesystem::rename(tmp, path);
+    }, "convergence log");
 }
 
 struct FormFactorCommand {
@@ -278,11 +273,6 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
     const std::size_t n = P.size();
     check_form_factor_memory(o, c.method, c.ff);
     check_memory(o, "the form-factor matrix (" + std::to_string(n) + " patches)", double(n) * double(n) * 4);
-    // Refuse before anything large is built.
-    if (FormFactorMatrix::bytes_for(n) > (c.max_matrix_mb << 20))
-        throw ResourceLimitError("form-factor matrix of " + std::to_string(n) + " patches needs " +
-                                 std::to_string((FormFactorMatrix::bytes_for(n) + (1u << 20) - 1) >> 20) +
-                                 " MB, over the limit of " + std::to_string(c.max_matrix_mb) + " MB (--max-matrix-mb)");
     const auto visibility = make_cgal_visibility(P);
     const auto ff = make_form_factor_estimator(c.method, P, visibility.get(), c.ff);
     ProgressLine progress(!o.quiet);
@@ -293,21 +283,13 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = 0; j < n; ++j) sums[i] += F(i, j);
     if (!c.output.empty()) {
-        const std::filesystem::path out = c.output, tmp = out.string() + ".tmp";
-        {
-            std::ofstream csv(tmp);
-            if (!csv) throw InputError(out.string() + ": cannot write");
+        write_text_file(c.output, [&](std::ostream& csv) {
             csv << "i,j,F_ij,row_sum_i\n";
             csv.precision(9);
             for (std::size_t i = 0; i < n; ++i)
                 for (std::size_t j = 0; j < n; ++j)
                     if (F(i, j) != 0.0f) csv << i << ',' << j << ',' << F(i, j) << ',' << sums[i] << '\n';
-            if (!csv.flush()) {
-                std::filesystem::remove(tmp);
-                throw std::runtime_error(out.string() + ": write failed");
-            }
-        }
-        std::filesystem::rename(tmp, out);
+        }, "form-factor CSV");
     }
     if (!o.quiet || c.check) {
         std::cout << "patches " << n << ", method " << c.method << ", " << F.seconds() << " s ("

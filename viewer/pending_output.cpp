@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cstring>
+#include <fstream>
 #include <stdexcept>
 
 namespace bounce {
@@ -33,6 +34,19 @@ void commit_output(const std::filesystem::path& tmp, const std::filesystem::path
         std::filesystem::remove(tmp, ec);
         throw std::runtime_error(final.string() + ": cannot write the " + what + " (" + ec.message() + ")");
     }
+}
+
+void write_text_file(const std::filesystem::path& final, const std::function<void(std::ostream&)>& body,
+                     const std::string& what) {
+    const std::filesystem::path tmp = final.string() + ".tmp";
+    const PendingOutput pending(tmp.c_str());
+    bool written;
+    {
+        std::ofstream out(tmp);
+        if (out) body(out);
+        written = bool(out.flush());
+    }
+    commit_output(tmp, final, written, what);
 }
 
 }  // namespace bounce

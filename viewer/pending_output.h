@@ -2,6 +2,8 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
+#include <ostream>
 #include <string>
 
 namespace bounce {
@@ -17,6 +19,11 @@ const char* pending_output();               // safe to call from a signal handle
 /// Throws std::runtime_error "<final>: cannot write the <what>".
 void commit_output(const std::filesystem::path& tmp, const std::filesystem::path& final, bool written,
                    const std::string& what);
+
+/// Writes a text file the same way: `body` fills a temporary beside `final` (registered as the
+/// pending output), then commit_output renames it. Throws std::runtime_error on failure.
+void write_text_file(const std::filesystem::path& final, const std::function<void(std::ostream&)>& body,
+                     const std::string& what);
 
 /// Registers `path` for the lifetime of the object.
 class PendingOutput {

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "viewer/series_writer.h"
 
+#include "viewer/pending_output.h"
+
 #include <cstdio>
-#include <fstream>
 #include <stdexcept>
 
 namespace bounce {
@@ -31,17 +32,13 @@ void SeriesWriter::finish(const SolveResult& final) {
         write_vtu(m_folder / name, m_mesh, final, m_info);
         m_entries.emplace_back(final.steps, (m_folder.filename() / name).string());
     }
-    const std::filesystem::path tmp = m_pvd.string() + ".tmp";
-    {
-        std::ofstream out(tmp);
+    write_text_file(m_pvd, [&](std::ostream& out) {
         out << "<?xml version=\"1.0\"?>\n"
                "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
         for (const auto& [step, file] : m_entries)
             out << "    <DataSet timestep=\"" << step << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
         out << "  </Collection>\n</VTKFile>\n";
-        if (!out.flush()) throw std::runtime_error(m_pvd.string() + ": cannot write");
-    }
-    std::filesystem::rename(tmp, m_pvd);
+    }, ".pvd file");
 }
 
 }  // namespace bounce
