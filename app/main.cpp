@@ -90,6 +90,7 @@ struct CommonOptions {
     bool quiet = false;
     bool strict = false;
     int threads = 0;
+    std::string visibility = visibility_backends().front();
     std::size_t max_memory_mb = 16384;
 };
 
@@ -145,6 +146,8 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
                   "one patch per input face");
     cmd->add_flag("-q,--quiet", o.quiet, "no progress line, no warnings");
     cmd->add_option("--threads", o.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--visibility", o.visibility, "visibility backend for shadow rays (default: embree)")
+        ->check(CLI::IsMember(visibility_backends()));
 }
 
 void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
@@ -273,7 +276,7 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
     const std::size_t n = P.size();
     check_form_factor_memory(o, c.method, c.ff);
     check_memory(o, "the form-factor matrix (" + std::to_string(n) + " patches)", double(n) * double(n) * 4);
-    const auto visibility = make_cgal_visibility(P);
+    const auto visibility = make_visibility(o.visibility, P);
     const auto ff = make_form_factor_estimator(c.method, P, visibility.get(), c.ff);
     ProgressLine progress(!o.quiet);
     const auto F = FormFactorMatrix::build(*ff, n, c.max_matrix_mb << 20,
@@ -337,7 +340,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     check_form_factor_memory(o, s.method, s.ff);
     if (s.solver != "shooting") check_memory(o, "the form-factor matrix (" + std::to_string(P.size()) + " patches)", n * n * 4);
     if (s.solver == "direct") check_memory(o, "the direct solver (matrix and LU factors)", n * n * 12);
-    const auto visibility = make_cgal_visibility(P);
+    const auto visibility = make_visibility(o.visibility, P);
     const auto ff = make_form_factor_estimator(s.method, P, visibility.get(), s.ff);
     const bool shooting = s.solver == "shooting";
     ProgressLine progress(!o.quiet, shooting ? "shot" : "sweep", shooting ? "unshot" : "residual");
@@ -433,7 +436,7 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
     }
     Scene scene;
     PatchMesh mesh = load_and_mesh(o, r.input, scene);
-    const auto visibility = make_cgal_visibility(mesh.patches());
+    const auto visibility = make_visibility(o.visibility, mesh.patches());
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
     const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
     interactive ? view_solution(mesh, res, {r.input, ""}, r.render, r.exit_after)
@@ -465,7 +468,7 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
     for (const auto& m : c.methods) check_form_factor_memory(o, m, c.ff);
     check_memory(o, "the form-factor matrices and the reference (" + std::to_string(P.size()) + " patches)",
                  n * n * (4.0 * double(c.methods.size()) + (P.size() <= c.max_direct ? 8.0 : 0.0)));
-    const auto visibility = make_cgal_visibility(P);
+    const auto visibility = make_visibility(o.visibility, P);
     std::vector<std::unique_ptr<FormFactorEstimator>> estimators;
     std::vector<FormFactorMatrix> matrices;
     for (const auto& m : c.methods) {

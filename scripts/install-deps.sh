@@ -3,7 +3,7 @@
 set -euo pipefail
 PKGS=(build-essential cmake pkg-config
       libcgal-dev libopenmesh-dev libglm-dev libvtk9-dev
-      libtbb-dev nlohmann-json3-dev libcli11-dev
+      libtbb-dev libembree-dev nlohmann-json3-dev libcli11-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       python3-vtk9 python3-meshio python3-matplotlib xvfb xauth
       clang libclang-rt-14-dev)

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,20 @@ public:
     /// row[j] = F_ij for every patch j (row.size() == patch count); row[i] = 0 (planar patches
     /// do not see themselves). Safe to call concurrently for different rows.
     virtual void compute_row(std::size_t i, std::span<float> row) const = 0;
+    /// True when each unordered pair is estimated once, so that A_i F_ij = A_j F_ji holds to
+    /// rounding and a caller may take F_ij = F_ji A_j / A_i from a row it already has.
+    virtual bool reciprocal() const { return false; }
+    /// A_i, for callers applying reciprocity (reciprocal() estimators only).
+    virtual double patch_area(std::size_t i) const {
+        (void)i;
+        throw std::logic_error(name() + " form factors are not reciprocal: no areas");
+    }
+    /// compute_row that leaves row[j] as the caller filled it wherever known[j] != 0 (the
+    /// caller took it from reciprocity). Only reciprocal() estimators honour `known`.
+    virtual void compute_row(std::size_t i, std::span<float> row, std::span<const std::uint8_t> known) const {
+        (void)known;
+        compute_row(i, row);
+    }
 };
 
 /// The methods by name: "raycast" (exact point-to-polygon kernel at receiver points times a

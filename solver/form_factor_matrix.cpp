@@ -6,6 +6,8 @@
 #include <chrono>
 #include <span>
 
+#include <cstdint>
+
 #include <tbb/parallel_for.h>
 
 namespace bounce {
@@ -23,15 +25,35 @@ FormFactorMatrix FormFactorMatrix::build(const FormFactorEstimator& estimator, s
     m.m_n = n;
     m.m_f.resize(n * n);
     std::atomic<std::size_t> done{0};
+    // A reciprocal estimator computes the upper triangle only; the lower one follows from
+    // A_i F_ij = A_j F_ji. known[j] marks the columns row i leaves alone (j <= i).
+    const bool upper_only = estimator.reciprocal();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             if (cancel && cancel->load()) return;
-            estimator.compute_row(i, std::span<float>(m.m_f.data() + i * n, n));
+            const std::span<float> row(m.m_f.data() + i * n, n);
+            if (upper_only) {
+                std::vector<std::uint8_t> known(n, 0);
+                std::fill(known.begin(), known.begin() + std::ptrdiff_t(i + 1), 1);
+                estimator.compute_row(i, row, known);
+            } else {
+                estimator.compute_row(i, row);
+            }
         }
         const std::size_t d = done += range.size();
         if (progress) progress(d, n);
     });
     if (cancel && cancel->load()) throw Interrupted("interrupted while computing form factors");
+    if (upper_only) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const double ai = estimator.patch_area(i);
+                for (std::size_t j = 0; j < i; ++j)
+                    m.m_f[i * n + j] = float(double(m.m_f[j * n + i]) * estimator.patch_area(j) / ai);
+                m.m_f[i * n + i] = 0.0f;
+            }
+        });
+    }
     m.m_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return m;
 }

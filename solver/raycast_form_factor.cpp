@@ -61,21 +61,35 @@ double RaycastFormFactor::visible_fraction(std::size_t i, std::size_t j) const {
     std::iota(perm, perm + cells, 0);
     for (int k = cells - 1; k > 0; --k) std::swap(perm[k], perm[rng.next() % std::uint64_t(k + 1)]);
     const double eps = m_visibility->offset();
-    int valid = 0, open = 0;
+    thread_local std::vector<Visibility::Segment> rays;
+    thread_local std::vector<std::uint8_t> blocked;
+    rays.clear();
     for (int r = 0; r < m; ++r) {
         const int ca = r % cells, cb = perm[r % cells];
         const glm::dvec3 pa = patch_point(a, (ca % side + rng.uniform()) / side, (ca / side + rng.uniform()) / side);
         const glm::dvec3 pb = patch_point(b, (cb % side + rng.uniform()) / side, (cb / side + rng.uniform()) / side);
         // Rays from points behind the other patch carry no power; leave them out.
         if (height(a, pb) <= eps || height(b, pa) <= eps) continue;
-        ++valid;
-        if (!m_visibility->occluded(pa + eps * a.normal, pb + eps * b.normal)) ++open;
+        rays.push_back({pa + eps * a.normal, pb + eps * b.normal});
     }
+    blocked.resize(rays.size());
+    m_visibility->occluded(rays, blocked);
+    const int valid = int(rays.size());
+    int open = 0;
+    for (const std::uint8_t b : blocked) open += b ? 0 : 1;
     return valid == 0 ? 1.0 : double(open) / valid;
 }
 
 double RaycastFormFactor::pair(std::size_t i, std::size_t j) const {
     if (i == j) return 0.0;
+    // Receiver points go on the smaller patch (ties: the higher index), whichever way round
+    // the pair is asked for, so F_ij and F_ji come from one integral.
+    const double ai = m_patches[i].area, aj = m_patches[j].area;
+    const bool j_receives = aj < ai || (aj == ai && j > i);
+    return j_receives ? directed(i, j) : directed(j, i) * aj / ai;
+}
+
+double RaycastFormFactor::directed(std::size_t i, std::size_t j) const {
     const Patch& s = m_patches[i];
     const Patch& r = m_patches[j];
     if (wholly_behind(s, r) || wholly_behind(r, s)) return 0.0;
@@ -123,6 +137,14 @@ double RaycastFormFactor::pair(std::size_t i, std::size_t j) const {
 void RaycastFormFactor::compute_row(std::size_t i, std::span<float> row) const {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, row.size(), 64), [&](const auto& range) {
         for (std::size_t j = range.begin(); j != range.end(); ++j) row[j] = float(pair(i, j));
+    });
+}
+
+void RaycastFormFactor::compute_row(std::size_t i, std::span<float> row, std::span<const std::uint8_t> known) const {
+    if (known.size() != row.size()) throw std::invalid_argument("compute_row: known and row differ in size");
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, row.size(), 64), [&](const auto& range) {
+        for (std::size_t j = range.begin(); j != range.end(); ++j)
+            if (!known[j]) row[j] = float(pair(i, j));
     });
 }
 

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 
@@ -39,6 +40,10 @@ SolveResult ShootingSolver::solve() {
     std::size_t cache_rows = row_bytes ? (m_options.cache_mb << 20) / row_bytes : 0;
     std::vector<std::unique_ptr<float[]>> cache(n);
     std::vector<float> scratch(n);
+    // Entries of a new row that reciprocity gives from cached rows: F_ij = F_ji A_j / A_i.
+    std::vector<std::uint8_t> known(n, 0);
+    std::vector<std::size_t> cached;
+    const bool borrow = m_ff.reciprocal();
 
     const std::size_t max_shots = m_options.max_iterations ? m_options.max_iterations : 100 * n;
     res.status = "max iterations";
@@ -128,9 +133,19 @@ SolveResult ShootingSolver::solve() {
             if (cache[shooter]) {
                 row = cache[shooter].get();
             } else {
-                m_ff.compute_row(shooter, scratch);
+                if (borrow) {
+                    for (const std::size_t k : cached) {
+                        scratch[k] = float(double(cache[k][shooter]) * m_patches[k].area / ai);
+                        known[k] = 1;
+                    }
+                    m_ff.compute_row(shooter, scratch, known);
+                    for (const std::size_t k : cached) known[k] = 0;
+                } else {
+                    m_ff.compute_row(shooter, scratch);
+                }
                 if (cache_rows > 0) {
                     --cache_rows;
+                    cached.push_back(shooter);
                     cache[shooter].reset(new float[n]);
                     std::copy(scratch.begin(), scratch.end(), cache[shooter].get());
                     row = cache[shooter].get();

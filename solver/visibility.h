@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -16,8 +18,16 @@ namespace bounce {
 /// a coplanar neighbour. Implementations are thread-safe for concurrent queries.
 class Visibility {
 public:
+    struct Segment {
+        glm::dvec3 a, b;
+    };
     virtual ~Visibility() = default;
     virtual bool occluded(const glm::dvec3& a, const glm::dvec3& b) const = 0;
+    /// blocked[k] = occluded(segments[k]) for a batch (a pair's rays, traced as packets by
+    /// backends that can). The answers equal the one-at-a-time ones.
+    virtual void occluded(std::span<const Segment> segments, std::span<std::uint8_t> blocked) const {
+        for (std::size_t k = 0; k < segments.size(); ++k) blocked[k] = occluded(segments[k].a, segments[k].b);
+    }
     virtual std::string name() const = 0;
     /// Distance to lift ray endpoints off their surfaces: tiny against the scene (1e-6 of its
     /// diagonal), yet far above the rounding error of the coordinates.
@@ -29,5 +39,14 @@ protected:
 
 /// CGAL AABB tree of the patches' triangles, queried with exact predicates.
 std::unique_ptr<Visibility> make_cgal_visibility(const std::vector<Patch>& patches);
+
+/// Embree 3 BVH of the patches' triangles (single precision, watertight traversal).
+std::unique_ptr<Visibility> make_embree_visibility(const std::vector<Patch>& patches);
+
+/// Backend names, the default (the faster, measured in bench/bench_visibility) first.
+std::vector<std::string> visibility_backends();
+
+/// The backend called `backend`; std::invalid_argument names the valid ones otherwise.
+std::unique_ptr<Visibility> make_visibility(const std::string& backend, const std::vector<Patch>& patches);
 
 }  // namespace bounce
