@@ -32,6 +32,7 @@
 #include "viewer/pending_output.h"
 #include "viewer/renderer.h"
 #include "viewer/series_writer.h"
+#include "solver/raycast_form_factor.h"
 #include "solver/shooting_solver.h"
 #include "solver/visibility.h"
 #include "viewer/version.h"
@@ -139,6 +140,9 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
         ->check(kPositive);
     cmd->add_option("--max-edge", o.meshing.max_edge, "longest patch edge (scene units)")
         ->check(kPositive);
+    cmd->add_option("--patches", o.meshing.target_patches,
+                    "about this many patches when neither --max-area nor --max-edge is given (2000)")
+        ->check(CLI::Range(std::size_t(1), std::size_t(100000000)));
     cmd->add_option("--max-memory", o.max_memory_mb, "refuse work estimated above this many MB (16384)")
         ->check(kPositive);
     cmd->add_flag("--strict", o.strict, "treat every warning about the input (materials, degenerate, non-planar or crossing faces) as an error");
@@ -234,6 +238,7 @@ struct SolveCommand {
     std::string png;
     std::size_t series = 0;
     RenderOptions render;
+    int element_split = 1;
 };
 
 /// Writes a convergence log as CSV: step,seconds,residual,unshot_fraction,rms_error,max_error
@@ -333,15 +338,24 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     check_output(out);
     if (!s.log_csv.empty()) check_output(s.log_csv);
 
+    const bool elements = s.element_split > 1;
+    if (elements && (s.solver != "shooting" || s.method == "hemicube"))
+        throw std::invalid_argument("--elements needs the shooting solver and raycast or analytic form factors");
+    CommonOptions fine = o;
+    fine.meshing.element_split = s.element_split;
     Scene scene;
-    PatchMesh mesh = load_and_mesh(o, o.scene, scene);
+    PatchMesh mesh = load_and_mesh(fine, o.scene, scene);
     const auto& P = mesh.patches();
     const double n = double(P.size());
+    std::optional<PatchMesh> shooters;  // with --elements: the patches that shoot to the elements
+    if (elements) shooters.emplace(scene, o.meshing);
     check_form_factor_memory(o, s.method, s.ff);
     if (s.solver != "shooting") check_memory(o, "the form-factor matrix (" + std::to_string(P.size()) + " patches)", n * n * 4);
     if (s.solver == "direct") check_memory(o, "the direct solver (matrix and LU factors)", n * n * 12);
     const auto visibility = make_visibility(o.visibility, P);
-    const auto ff = make_form_factor_estimator(s.method, P, visibility.get(), s.ff);
+    const auto ff = elements ? std::make_unique<PatchToElementFormFactor>(shooters->patches(), P,
+                                                                          s.method == "analytic" ? nullptr : visibility.get(), s.ff)
+                             : make_form_factor_estimator(s.method, P, visibility.get(), s.ff);
     const bool shooting = s.solver == "shooting";
     ProgressLine progress(!o.quiet, shooting ? "shot" : "sweep", shooting ? "unshot" : "residual");
     std::optional<FormFactorMatrix> matrix;
@@ -368,14 +382,16 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         so.snapshot_every = s.series;
         so.snapshot = [&](std::size_t step, const std::vector<Rgb>& B) { series->add(step, B); };
     }
-    const auto solver = make_solver(s.solver, {P, ff.get(), matrix ? &*matrix : nullptr}, so);
+    const auto solver = elements ? std::make_unique<ShootingSolver>(P, *ff, so, nullptr,
+                                                                    ElementHierarchy{&shooters->patches(), &mesh.parents()})
+                                 : make_solver(s.solver, {P, ff.get(), matrix ? &*matrix : nullptr}, so);
     SolveResult res = solver->solve();
     progress.finish();
     res.form_factors = s.method;
     if (matrix) res.seconds += matrix->seconds();
 
     std::ostringstream settings;
-    settings << "patches=" << mesh.size() << " edge=" << mesh.edge_length() << " solver=" << s.solver
+ settings << "patches=" << (elements ? shooters->size() : mesh.size()) << " elements=" << mesh.size() << " edge=" << mesh.edge_length() << " solver=" << s.solver
              << " sor=" << s.options.sor << " method=" << s.method << " rays=" << s.ff.visibility_rays
              << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
              << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance;
@@ -389,7 +405,8 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     if (!s.png.empty()) render_solution(mesh, res, {o.scene, settings.str()}, s.png, s.render);
     if (!s.log_csv.empty()) write_log_csv(s.log_csv, {res}, {s.method}, {matrix ? matrix->seconds() : 0.0});
     if (!o.quiet) {
-        std::cout << "patches " << mesh.size() << ", " << s.solver << " " << res.steps
+        std::cout << "patches " << (elements ? std::to_string(shooters->size()) + ", elements " : "") << mesh.size()
+                  << ", " << s.solver << " " << res.steps
                   << (s.solver == "shooting" ? " shots" : " sweeps");
         if (s.solver == "shooting") std::cout << ", unshot fraction " << res.unshot_fraction;
         if (res.residual >= 0) std::cout << ", residual " << res.residual;
@@ -561,6 +578,11 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 2.0));
     solve_cmd->add_option("--log", solve.log_csv, "write the convergence log (CSV)");
     solve_cmd->add_flag("--overshoot", solve.options.overshoot, "shooting: over-shoot by rho times the ambient term");
+    solve_cmd->add_option("--elements", solve.element_split,
+                          "shooting: cut every patch into KxK elements that receive (patches shoot to elements)")
+        ->check(CLI::Range(1, 64));
+    solve_cmd->add_option("--cache-mb", solve.options.cache_mb,
+                          "shooting: memory for cached form-factor rows (MB, default 1024); rows beyond it are recomputed");
     solve_cmd->add_option("--max-matrix-mb", solve.max_matrix_mb, "refuse a matrix larger than this (MB)");
     solve_cmd->add_option("--form-factors", solve.method, "raycast, hemicube, or analytic (no occlusion)")
         ->check(CLI::IsMember(bounce::form_factor_methods()));

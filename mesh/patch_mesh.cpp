@@ -81,6 +81,10 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
             for (const auto& t : triangulate_polygon(poly)) add_triangle(poly[t[0]], poly[t[1]], poly[t[2]]);
         }
     }
+    if (options.element_split < 1 || options.element_split > 1024)
+        throw InputError("meshing: the element split must be between 1 and 1024");
+    const int split = options.element_split;
+    planned *= double(split) * split;
     if (planned > double(options.max_patches)) {
         std::ostringstream msg;
         msg << "meshing would make " << planned << " patches, more than the limit of " << options.max_patches
@@ -91,6 +95,8 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     auto face_surface = OpenMesh::FPropHandleT<int>();
     m_mesh.add_property(face_surface, "f:surface");
     m_patches.reserve(std::size_t(planned));
+    m_parent.reserve(std::size_t(planned));
+    std::uint32_t parent = 0;  // index of the current element's patch in the split = 1 mesh
     auto emit_patch = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
         const auto& surface = scene.surfaces[si];
         const auto& mat = scene.materials[surface.material];
@@ -111,6 +117,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         if (!f.is_valid()) throw std::runtime_error("patch mesh: OpenMesh refused a face of surface " + surface.where.to_string());
         m_mesh.property(face_surface, f) = si;
         m_patches.push_back(p);
+        m_parent.push_back(parent);
     };
     auto vertex = [&](const V& p) { return m_mesh.add_vertex(OpenPatchMesh::Point(p.x, p.y, p.z)); };
 
@@ -118,7 +125,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         const auto& c = piece.corners;
         if (c.size() == 4) {
             // Bilinear grid: sub-quads of a planar quad are planar and tile it exactly.
-            const int nu = piece.nu, nv = piece.nv;
+            const int nu = piece.nu * split, nv = piece.nv * split;
             std::vector<OpenPatchMesh::VertexHandle> grid((nu + 1) * (nv + 1));
             for (int b = 0; b <= nv; ++b)
                 for (int a = 0; a <= nu; ++a) {
@@ -126,22 +133,50 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
                     grid[b * (nu + 1) + a] =
                         vertex((1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3]);
                 }
-            for (int b = 0; b < nv; ++b)
-                for (int a = 0; a < nu; ++a)
-                    emit_patch(si, {grid[b * (nu + 1) + a], grid[b * (nu + 1) + a + 1],
-                                    grid[(b + 1) * (nu + 1) + a + 1], grid[(b + 1) * (nu + 1) + a]});
+            // Elements in the order of their patches (row-major over the k = 1 grid).
+            const std::uint32_t first = parent;
+            for (int B = 0; B < piece.nv; ++B)
+                for (int A = 0; A < piece.nu; ++A) {
+                    parent = first + std::uint32_t(B * piece.nu + A);
+                    for (int b = B * split; b < (B + 1) * split; ++b)
+                        for (int a = A * split; a < (A + 1) * split; ++a)
+                            emit_patch(si, {grid[b * (nu + 1) + a], grid[b * (nu + 1) + a + 1],
+                                            grid[(b + 1) * (nu + 1) + a + 1], grid[(b + 1) * (nu + 1) + a]});
+                }
+            parent = first + std::uint32_t(piece.nu * piece.nv);
         } else {
             // k x k similar triangles on the barycentric lattice (i, j), i + j <= k.
-            const int k = piece.nu;
+            const int K = piece.nu, k = K * split;
             std::vector<std::vector<OpenPatchMesh::VertexHandle>> lat(k + 1);
             for (int i = 0; i <= k; ++i)
                 for (int j = 0; i + j <= k; ++j)
                     lat[i].push_back(vertex(c[0] + (double(i) / k) * (c[1] - c[0]) + (double(j) / k) * (c[2] - c[0])));
+            // Patches of the k = 1 mesh in its order: up triangle (I, J), then down (I, J).
+            // An element's local lattice position (ii, jj) in cell (I, J) says which it is in:
+            // up elements with ii + jj < split and down ones with ii + jj + 1 < split lie in
+            // the cell's up patch, the rest in its down patch.
+            const std::uint32_t first = parent;
+            std::vector<std::uint32_t> up(std::size_t(K) * K), down(std::size_t(K) * K);
+            std::uint32_t next = first;
+            for (int I = 0; I < K; ++I)
+                for (int J = 0; I + J < K; ++J) {
+                    up[std::size_t(I) * K + J] = next++;
+                    if (I + J + 1 < K) down[std::size_t(I) * K + J] = next++;
+                }
+            auto cell_patch = [&](int i, int j, int extra) {
+                const int I = i / split, J = j / split, ii = i % split, jj = j % split;
+                return ii + jj + extra < split ? up[std::size_t(I) * K + J] : down[std::size_t(I) * K + J];
+            };
             for (int i = 0; i < k; ++i)
                 for (int j = 0; i + j < k; ++j) {
+                    parent = cell_patch(i, j, 0);
                     emit_patch(si, {lat[i][j], lat[i + 1][j], lat[i][j + 1]});
-                    if (i + j + 1 < k) emit_patch(si, {lat[i + 1][j], lat[i + 1][j + 1], lat[i][j + 1]});
+                    if (i + j + 1 < k) {
+                        parent = cell_patch(i, j, 1);
+                        emit_patch(si, {lat[i + 1][j], lat[i + 1][j + 1], lat[i][j + 1]});
+                    }
                 }
+            parent = next;
         }
     }
 }

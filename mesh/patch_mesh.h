@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -19,6 +20,7 @@ struct MeshingOptions {
     std::size_t target_patches = 2000;   // used for the default when neither limit is set
     std::size_t max_patches = 2000000;   // refuse meshings larger than this, before building them
     bool subdivide = true;          // false: one patch per input face (polygons > 4 are triangulated)
+    int element_split = 1;          // cut every patch into split x split elements (see PatchMesh::parents)
 };
 
 struct PatchMeshTraits : OpenMesh::DefaultTraits {
@@ -39,6 +41,10 @@ public:
     const OpenPatchMesh& mesh() const { return m_mesh; }
     /// Vertex indices of patch p, in order (3 or 4).
     std::vector<int> patch_vertex_indices(std::size_t p) const;
+    /// With element_split k > 1 the faces are elements: each patch of the same scene meshed
+    /// with k = 1 is cut into k x k of them (exactly: sub-grids of its bilinear or
+    /// barycentric grid). parents()[e] is that patch's index in the k = 1 mesh; identity for k = 1.
+    const std::vector<std::uint32_t>& parents() const { return m_parent; }
     /// Edge length actually used for cutting.
     double edge_length() const { return m_edge; }
     double total_area() const;
@@ -47,6 +53,7 @@ public:
 private:
     OpenPatchMesh m_mesh;
     std::vector<Patch> m_patches;
+    std::vector<std::uint32_t> m_parent;
     double m_edge = 0.0;
 };
 

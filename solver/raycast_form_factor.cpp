@@ -148,6 +148,27 @@ void RaycastFormFactor::compute_row(std::size_t i, std::span<float> row, std::sp
     });
 }
 
+namespace {
+std::vector<Patch> joined(const std::vector<Patch>& a, const std::vector<Patch>& b) {
+    std::vector<Patch> all(a);
+    all.insert(all.end(), b.begin(), b.end());
+    return all;
+}
+}  // namespace
+
+PatchToElementFormFactor::PatchToElementFormFactor(const std::vector<Patch>& patches,
+                                                   const std::vector<Patch>& elements,
+                                                   const Visibility* visibility, const FormFactorOptions& options)
+    : m_all(joined(patches, elements)), m_first_element(patches.size()), m_inner(m_all, visibility, options) {}
+
+void PatchToElementFormFactor::compute_row(std::size_t i, std::span<float> row) const {
+    if (i >= m_first_element || row.size() != m_all.size() - m_first_element)
+        throw std::invalid_argument("patch-to-element row: patch index or row length out of range");
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, row.size(), 64), [&](const auto& range) {
+        for (std::size_t j = range.begin(); j != range.end(); ++j) row[j] = float(m_inner.pair(i, m_first_element + j));
+    });
+}
+
 std::vector<std::string> form_factor_methods() { return {"raycast", "analytic", "hemicube"}; }
 
 std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::string& method,

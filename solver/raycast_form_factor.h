@@ -42,4 +42,20 @@ private:
     FormFactorOptions m_options;
 };
 
+/// Rows from patches to elements, for shooting with an ElementHierarchy: row i holds
+/// F(patch i -> element j) for every element j, from the same kernel and rays as
+/// RaycastFormFactor applied to the joint list (patches, then elements).
+class PatchToElementFormFactor final : public FormFactorEstimator {
+public:
+    PatchToElementFormFactor(const std::vector<Patch>& patches, const std::vector<Patch>& elements,
+                             const Visibility* visibility, const FormFactorOptions& options);
+    std::string name() const override { return m_inner.name(); }
+    void compute_row(std::size_t i, std::span<float> row) const override;
+
+private:
+    std::vector<Patch> m_all;  // patches, then elements; declared before m_inner, which refers to it
+    std::size_t m_first_element;
+    RaycastFormFactor m_inner;
+};
+
 }  // namespace bounce

@@ -14,8 +14,19 @@
 namespace bounce {
 
 ShootingSolver::ShootingSolver(const std::vector<Patch>& patches, const FormFactorEstimator& form_factors,
-                               const SolverOptions& options, const FormFactorMatrix* matrix)
-    : m_patches(patches), m_ff(form_factors), m_options(options), m_matrix(matrix) {}
+                               const SolverOptions& options, const FormFactorMatrix* matrix,
+                               ElementHierarchy hierarchy)
+    : m_patches(patches), m_ff(form_factors), m_options(options), m_matrix(matrix), m_hierarchy(hierarchy) {
+    if (bool(hierarchy.shooters) != bool(hierarchy.parents))
+        throw std::invalid_argument("element hierarchy: give both shooters and parents");
+    if (hierarchy.shooters) {
+        if (matrix) throw std::invalid_argument("element hierarchy: a patch-to-patch matrix does not apply");
+        if (hierarchy.parents->size() != patches.size())
+            throw std::invalid_argument("element hierarchy: one parent per element");
+        for (const std::uint32_t p : *hierarchy.parents)
+            if (p >= hierarchy.shooters->size()) throw std::invalid_argument("element hierarchy: parent out of range");
+    }
+}
 
 SolveResult ShootingSolver::solve() {
     const auto start = std::chrono::steady_clock::now();
@@ -36,14 +47,33 @@ SolveResult ShootingSolver::solve() {
 
     // Rows of shooters are kept (float) while the cache budget allows: a bright patch shoots
     // many times and its row does not change.
+    // Without a hierarchy every patch shoots for itself (parents: the identity).
+    const std::vector<Patch>& shooters = m_hierarchy.shooters ? *m_hierarchy.shooters : m_patches;
+    const std::size_t ns = shooters.size();
+    std::vector<std::uint32_t> identity;
+    if (!m_hierarchy.parents) {
+        identity.resize(n);
+        for (std::size_t i = 0; i < n; ++i) identity[i] = std::uint32_t(i);
+    }
+    const std::vector<std::uint32_t>& parent = m_hierarchy.parents ? *m_hierarchy.parents : identity;
+    std::vector<std::size_t> first_child(ns + 1, 0);  // children of s: child[first_child[s] .. first_child[s+1])
+    for (const std::uint32_t p : parent) ++first_child[p + 1];
+    for (std::size_t s = 0; s < ns; ++s) first_child[s + 1] += first_child[s];
+    std::vector<std::uint32_t> child(n);
+    {
+        std::vector<std::size_t> at(first_child.begin(), first_child.end() - 1);
+        for (std::size_t e = 0; e < n; ++e) child[at[parent[e]]++] = std::uint32_t(e);
+    }
+    std::vector<Rgb> gathered(ns);  // per shooter: sum over its elements of unshot radiosity x area
+
     const std::size_t row_bytes = n * sizeof(float);
     std::size_t cache_rows = row_bytes ? (m_options.cache_mb << 20) / row_bytes : 0;
-    std::vector<std::unique_ptr<float[]>> cache(n);
+    std::vector<std::unique_ptr<float[]>> cache(ns);
     std::vector<float> scratch(n);
     // Entries of a new row that reciprocity gives from cached rows: F_ij = F_ji A_j / A_i.
     std::vector<std::uint8_t> known(n, 0);
     std::vector<std::size_t> cached;
-    const bool borrow = m_ff.reciprocal();
+    const bool borrow = m_ff.reciprocal() && !m_hierarchy.shooters;
 
     const std::size_t max_shots = m_options.max_iterations ? m_options.max_iterations : 100 * n;
     res.status = "max iterations";
@@ -100,12 +130,17 @@ SolveResult ShootingSolver::solve() {
         double unshot_total = 0.0, best = -1.0;
         std::size_t shooter = 0;
         Rgb unshot_signed;
+        std::fill(gathered.begin(), gathered.end(), Rgb());
         for (std::size_t i = 0; i < n; ++i) {
             const Rgb& u = res.unshot[i];
-            const double p = (std::abs(u.r) + std::abs(u.g) + std::abs(u.b)) * m_patches[i].area;
-            unshot_total += p;
+            unshot_total += (std::abs(u.r) + std::abs(u.g) + std::abs(u.b)) * m_patches[i].area;
             unshot_signed += u * m_patches[i].area;
-            if (p > best) { best = p; shooter = i; }
+            gathered[parent[i]] += u * m_patches[i].area;
+        }
+        for (std::size_t s = 0; s < ns; ++s) {
+            const Rgb& g = gathered[s];
+            const double p = std::abs(g.r) + std::abs(g.g) + std::abs(g.b);
+            if (p > best) { best = p; shooter = s; }
         }
         res.unshot_fraction = unshot_total / emitted;
         if (res.steps >= next_log) log();
@@ -128,14 +163,14 @@ SolveResult ShootingSolver::solve() {
         // dH_j = F_ji dB_i. With a matrix, its column i (shooting then solves exactly the
         // system the gathering solvers solve); otherwise F_ij A_i / A_j from row i.
         const float* row = nullptr;
-        const double ai = m_patches[shooter].area;
+        const double ai = shooters[shooter].area;
         if (!m_matrix) {
             if (cache[shooter]) {
                 row = cache[shooter].get();
             } else {
                 if (borrow) {
                     for (const std::size_t k : cached) {
-                        scratch[k] = float(double(cache[k][shooter]) * m_patches[k].area / ai);
+                        scratch[k] = float(double(cache[k][shooter]) * shooters[k].area / ai);
                         known[k] = 1;
                     }
                     m_ff.compute_row(shooter, scratch, known);
@@ -154,14 +189,18 @@ SolveResult ShootingSolver::solve() {
                 }
             }
         }
-        Rgb shot = res.unshot[shooter];
+        const Rgb mean_unshot = gathered[shooter] * (1.0 / ai);
+        Rgb shot = mean_unshot;
         if (m_options.overshoot) {
             // Over-shooting (Feda and Purgathofer 1991): also shoot the radiosity the patch will
             // still receive, estimated as rho_i times the ambient term; what was shot in advance
             // stays behind as negative unshot radiosity and is corrected later.
-            shot += m_patches[shooter].reflectance * ambient_of(unshot_signed);
+            shot += shooters[shooter].reflectance * ambient_of(unshot_signed);
         }
-        res.unshot[shooter] -= shot;
+        // Each element gives up its own unshot radiosity plus what is over-shot: in all,
+        // exactly A_i * shot leaves, whatever the spread among the elements.
+        for (std::size_t k = first_child[shooter]; k < first_child[shooter + 1]; ++k)
+            res.unshot[child[k]] = mean_unshot - shot;
         Rgb arrived;
         for (std::size_t j = 0; j < n; ++j) {
             const Patch& pj = m_patches[j];

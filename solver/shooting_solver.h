@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "solver/solver.h"
@@ -17,10 +18,22 @@ namespace bounce {
 /// estimate of an unfinished solution in SolveResult::display.
 using ShootingOptions = SolverOptions;
 
+/// Patches shoot, elements receive (Cohen, Greenberg, Immel and Brock 1986, "An efficient
+/// radiosity approach for realistic image synthesis"). The solver's `patches` are then the
+/// elements, element e belonging to shooters[parents[e]]. A shooter sends the area-weighted
+/// mean unshot radiosity of its elements as a uniform emitter, and its form-factor rows run
+/// over the elements. Rows cost O(elements) each and only shooters' rows are cached, so a
+/// fine element mesh costs memory in proportion to shooters x elements, not elements^2.
+struct ElementHierarchy {
+    const std::vector<Patch>* shooters = nullptr;
+    const std::vector<std::uint32_t>* parents = nullptr;
+};
+
 class ShootingSolver final : public Solver {
 public:
     ShootingSolver(const std::vector<Patch>& patches, const FormFactorEstimator& form_factors,
-                   const SolverOptions& options, const FormFactorMatrix* matrix = nullptr);
+                   const SolverOptions& options, const FormFactorMatrix* matrix = nullptr,
+                   ElementHierarchy hierarchy = {});
     std::string name() const override { return "shooting"; }
     SolveResult solve() override;
 
@@ -29,6 +42,7 @@ private:
     const FormFactorEstimator& m_ff;
     SolverOptions m_options;
     const FormFactorMatrix* m_matrix;  // when given: residuals in the log
+    ElementHierarchy m_hierarchy;
 };
 
 }  // namespace bounce

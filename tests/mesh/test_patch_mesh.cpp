@@ -70,3 +70,41 @@ TEST(PatchMesh, NoSubdivideGivesOnePatchPerFace) {
     o.subdivide = false;
     EXPECT_EQ(PatchMesh(s, o).size(), s.surfaces.size());
 }
+
+TEST(PatchMesh, ElementsTileTheirParentPatchesExactly) {
+    // A scene with quads (the box) and triangles (a pentagon is cut into them).
+    Scene s = load_scene("cornell");
+    Surface penta = s.surfaces.front();
+    penta.vertices = {{100, 300, 200}, {200, 300, 200}, {230, 300, 300}, {150, 300, 360}, {70, 300, 300}};
+    s.surfaces.push_back(penta);
+    MeshingOptions o;
+    o.target_patches = 300;
+    const PatchMesh coarse(s, o);
+    for (const int split : {1, 3}) {
+        o.element_split = split;
+        const PatchMesh fine(s, o);
+        ASSERT_EQ(fine.size(), coarse.size() * std::size_t(split * split));
+        ASSERT_EQ(fine.parents().size(), fine.size());
+        std::vector<double> area(coarse.size(), 0.0);
+        std::vector<int> children(coarse.size(), 0);
+        for (std::size_t e = 0; e < fine.size(); ++e) {
+            const Patch& el = fine.patches()[e];
+            const Patch& p = coarse.patches().at(fine.parents()[e]);
+            area[fine.parents()[e]] += el.area;
+            ++children[fine.parents()[e]];
+            ASSERT_EQ(el.surface, p.surface);
+            // The element's centre lies inside its parent (convex: left of every edge).
+            for (int k = 0; k < p.vertex_count; ++k) {
+                const glm::dvec3 a = p.vertices[k], b = p.vertices[(k + 1) % p.vertex_count];
+                ASSERT_GT(glm::dot(glm::cross(b - a, el.centre - a), p.normal), 0.0) << "element " << e;
+            }
+        }
+        for (std::size_t i = 0; i < coarse.size(); ++i) {
+            EXPECT_EQ(children[i], split * split) << i;
+            EXPECT_NEAR(area[i] / coarse.patches()[i].area, 1.0, 1e-12) << i;
+        }
+        EXPECT_NEAR(fine.total_area() / coarse.total_area(), 1.0, 1e-13);
+        const Rgb ef = fine.emitted_power(), ec = coarse.emitted_power();
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(ef[c] / ec[c], 1.0, 1e-13);
+    }
+}

@@ -15,6 +15,7 @@
 #include "solver/form_factor_estimator.h"
 #include "solver/form_factor_matrix.h"
 #include "solver/patch_sampling.h"
+#include "solver/raycast_form_factor.h"
 #include "solver/shooting_solver.h"
 #include "solver/visibility.h"
 
@@ -207,5 +208,58 @@ TEST(Reciprocity, RaycastMatrixIsReciprocalToRoundingAndBorrowingRowsChangesNoth
         ff->compute_row(i, row);
         for (std::size_t j = 0; j < P.size(); ++j)
             EXPECT_NEAR(row[j], F(i, j), 1e-6 * std::max(1e-3f, row[j])) << i << "," << j;
+    }
+}
+
+namespace {
+double rms_relative(const std::vector<Rgb>& b, const std::vector<Rgb>& ref, const std::vector<Patch>& P) {
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < P.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            num += P[i].area * (b[i][c] - ref[i][c]) * (b[i][c] - ref[i][c]);
+            den += P[i].area * ref[i][c] * ref[i][c];
+        }
+    return std::sqrt(num / den);
+}
+}  // namespace
+
+TEST(ElementHierarchy, PatchesShootingToElementsApproachTheFineSolutionAndConserveEnergy) {
+    const Scene scene = load_scene("cornell");
+    MeshingOptions o;
+    o.target_patches = 150;
+    const PatchMesh patches(scene, o);
+    o.element_split = 3;
+    const PatchMesh elements(scene, o);
+    const auto& E = elements.patches();
+    const auto vis = make_visibility("embree", E);
+    SolverOptions so;
+    so.tolerance = 1e-6;
+
+    // Reference: the element mesh solved as ordinary patches (each element shoots).
+    const auto fine_ff = make_form_factor_estimator("raycast", E, vis.get(), {});
+    const SolveResult fine = ShootingSolver(E, *fine_ff, so).solve();
+    // The coarse solution, each element taking its patch's radiosity.
+    const auto coarse_ff = make_form_factor_estimator("raycast", patches.patches(), vis.get(), {});
+    const SolveResult coarse = ShootingSolver(patches.patches(), *coarse_ff, so).solve();
+    std::vector<Rgb> injected(E.size());
+    for (std::size_t e = 0; e < E.size(); ++e) injected[e] = coarse.radiosity[elements.parents()[e]];
+    // Patches shoot, elements receive.
+    const PatchToElementFormFactor p2e(patches.patches(), E, vis.get(), {});
+    const SolveResult hier =
+        ShootingSolver(E, p2e, so, nullptr, ElementHierarchy{&patches.patches(), &elements.parents()}).solve();
+    ASSERT_TRUE(hier.converged);
+
+    const double err_coarse = rms_relative(injected, fine.radiosity, E);
+    const double err_hier = rms_relative(hier.radiosity, fine.radiosity, E);
+    std::printf("%zu patches, %zu elements: RMS vs element solution: coarse %.4f, patches->elements %.4f\n",
+                patches.size(), E.size(), err_coarse, err_hier);
+    // Measured: coarse 0.0169, patches->elements 0.0038 (what remains is the uniform-emitter
+    // approximation of each shooting patch).
+    EXPECT_LT(err_hier, 0.006);
+    EXPECT_LT(err_hier, 0.35 * err_coarse);
+    // Energy: emitted = absorbed + escaped + unshot, per channel.
+    for (int c = 0; c < 3; ++c) {
+        const double balance = hier.absorbed_power[c] + hier.escaped_power[c] + hier.unshot_power[c];
+        EXPECT_NEAR(balance / hier.emitted_power[c], 1.0, 1e-9);
     }
 }
