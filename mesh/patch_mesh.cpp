@@ -181,6 +181,31 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     }
 }
 
+PatchMesh::PatchMesh(std::vector<Patch> patches, const std::vector<glm::dvec3>& points,
+                     const std::vector<std::vector<std::uint32_t>>& faces)
+    : m_patches(std::move(patches)) {
+    if (faces.size() != m_patches.size()) throw std::invalid_argument("patch mesh: one face per patch");
+    auto face_surface = OpenMesh::FPropHandleT<int>();
+    m_mesh.add_property(face_surface, "f:surface");
+    std::vector<OpenPatchMesh::VertexHandle> vh;
+    vh.reserve(points.size());
+    for (const auto& p : points) vh.push_back(m_mesh.add_vertex(OpenPatchMesh::Point(p.x, p.y, p.z)));
+    m_parent.resize(m_patches.size());
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+        std::vector<OpenPatchMesh::VertexHandle> f;
+        for (const std::uint32_t q : faces[i]) {
+            if (q >= vh.size()) throw std::invalid_argument("patch mesh: face point out of range");
+            f.push_back(vh[q]);
+        }
+        const auto face = m_mesh.add_face(f);
+        if (!face.is_valid())
+            throw std::runtime_error("patch mesh: OpenMesh refused element face " + std::to_string(i) + " (" +
+                                     m_patches[i].to_string() + ")");
+        m_mesh.property(face_surface, face) = m_patches[i].surface;
+        m_parent[i] = std::uint32_t(i);
+    }
+}
+
 std::vector<int> PatchMesh::patch_vertex_indices(std::size_t p) const {
     std::vector<int> out;
     for (auto v : m_mesh.fv_range(m_mesh.face_handle(int(p)))) out.push_back(v.idx());

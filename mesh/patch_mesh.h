@@ -35,6 +35,11 @@ using OpenPatchMesh = OpenMesh::PolyMesh_ArrayKernelT<PatchMeshTraits>;
 class PatchMesh {
 public:
     PatchMesh(const Scene& scene, const MeshingOptions& options);
+    /// A mesh of given faces (as ElementTree::conforming_mesh makes): face i is the polygon
+    /// points[faces[i][0]], points[faces[i][1]], ... (3 or more, counter-clockwise, extra points
+    /// allowed on the edges) and displays patches[i].
+    PatchMesh(std::vector<Patch> patches, const std::vector<glm::dvec3>& points,
+              const std::vector<std::vector<std::uint32_t>>& faces);
 
     const std::vector<Patch>& patches() const { return m_patches; }
     std::size_t size() const { return m_patches.size(); }

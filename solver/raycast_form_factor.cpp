@@ -80,6 +80,34 @@ double RaycastFormFactor::visible_fraction(std::size_t i, std::size_t j) const {
     return valid == 0 ? 1.0 : double(open) / valid;
 }
 
+double RaycastFormFactor::point_factor(const glm::dvec3& x, const glm::dvec3& n, std::size_t j,
+                                       std::uint64_t stream) const {
+    const Patch& q = m_patches[j];
+    const double eps = m_visibility ? m_visibility->offset() : 0.0;
+    // A one-sided emitter sends nothing backwards; a point on q's own plane sees none of it.
+    if (height(q, x) <= std::max(eps, 1e-12 * std::sqrt(q.area))) return 0.0;
+    const double f = point_polygon_form_factor(x, n, q.polygon());
+    if (f <= 0.0 || !m_visibility) return std::max(f, 0.0);
+    const int m = m_options.visibility_rays;
+    const int side = int(std::ceil(std::sqrt(double(m))));
+    SplitMix64 rng{m_options.seed * 0x9E3779B97F4A7C15ull ^ stream * 0xD1B54A32D192ED03ull ^ std::uint64_t(j)};
+    thread_local std::vector<Visibility::Segment> rays;
+    thread_local std::vector<std::uint8_t> blocked;
+    rays.clear();
+    for (int r = 0; r < m; ++r) {
+        const int c = r % (side * side);
+        const glm::dvec3 pq = patch_point(q, (c % side + rng.uniform()) / side, (c / side + rng.uniform()) / side);
+        if (glm::dot(n, pq - x) <= eps) continue;  // below x's tangent plane: carries nothing
+        rays.push_back({x + eps * n, pq + eps * q.normal});
+    }
+    if (rays.empty()) return f;
+    blocked.resize(rays.size());
+    m_visibility->occluded(rays, blocked);
+    int open = 0;
+    for (const std::uint8_t b : blocked) open += b ? 0 : 1;
+    return f * double(open) / double(rays.size());
+}
+
 double RaycastFormFactor::pair(std::size_t i, std::size_t j) const {
     if (i == j) return 0.0;
     // Receiver points go on the smaller patch (ties: the higher index), whichever way round

@@ -32,6 +32,11 @@ public:
     double pair(std::size_t i, std::size_t j) const;
     /// Fraction of the pair's rays that arrive unblocked (1 without visibility).
     double visible_fraction(std::size_t i, std::size_t j) const;
+    /// F(dA at x with normal n -> patch j): the exact kernel times the fraction of stratified
+    /// rays from x to j that arrive; `stream` seeds the rays (the same stream, the same rays).
+    /// Radiosity at a point, B(x) = E + rho sum_j F(x -> j) B_j, is what adaptive
+    /// subdivision compares with an element's mean.
+    double point_factor(const glm::dvec3& x, const glm::dvec3& n, std::size_t j, std::uint64_t stream) const;
 
 private:
     /// F_ij integrated over receiver points on j (the exact kernel covers the shooter i).

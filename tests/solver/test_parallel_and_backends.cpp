@@ -120,7 +120,9 @@ TEST(VisibilityBackends, EmbreeAndCgalAgreeOnEveryRayIncludingGrazingAndSharedEd
         blocked[r.kind] += c;
         ASSERT_EQ(c, e) << r.kind << " ray (" << r.a.x << "," << r.a.y << "," << r.a.z << ") -> (" << r.b.x << ","
                         << r.b.y << "," << r.b.z << ")";
-        if (r.expect >= 0) EXPECT_EQ(int(c), r.expect) << r.kind;
+        if (r.expect >= 0) {
+            EXPECT_EQ(int(c), r.expect) << r.kind;
+        }
         segments.push_back({r.a, r.b});
     }
     // The packet path gives the single-ray answers.
@@ -141,7 +143,7 @@ TEST(VisibilityBackends, CornellSolutionIsBitIdenticalWithEitherBackend) {
     const PatchMesh mesh = cornell(600);
     const auto& P = mesh.patches();
     std::vector<std::vector<Rgb>> b;
-    for (const std::string backend : visibility_backends()) {
+    for (const std::string& backend : visibility_backends()) {
         const auto vis = make_visibility(backend, P);
         const auto ff = make_form_factor_estimator("raycast", P, vis.get(), {});
         b.push_back(ShootingSolver(P, *ff, {}).solve().radiosity);

@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The scene every benchmark runs on: the Cornell box as the CLI loads it, meshed to
+// BOUNCE_BENCH_PATCHES patches (default 2000, the CLI's default).
+
+#include <cstdlib>
+#include <string>
+
+#include "mesh/patch_mesh.h"
+#include "mesh/scene_loader.h"
+
+namespace bounce::bench {
+
+inline std::size_t patch_target() {
+    const char* env = std::getenv("BOUNCE_BENCH_PATCHES");
+    return env ? std::size_t(std::stoul(env)) : 2000;
+}
+
+inline const PatchMesh& cornell() {
+    static const PatchMesh mesh = [] {
+        MeshingOptions o;
+        o.target_patches = patch_target();
+        return PatchMesh(load_scene("cornell"), o);
+    }();
+    return mesh;
+}
+
+}  // namespace bounce::bench
