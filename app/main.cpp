@@ -32,6 +32,8 @@
 #include "viewer/pending_output.h"
 #include "viewer/renderer.h"
 #include "viewer/series_writer.h"
+#include "solver/adaptive_radiosity.h"
+#include "solver/hierarchical_radiosity.h"
 #include "solver/raycast_form_factor.h"
 #include "solver/shooting_solver.h"
 #include "solver/visibility.h"
@@ -239,6 +241,9 @@ struct SolveCommand {
     std::size_t series = 0;
     RenderOptions render;
     int element_split = 1;
+    bool adaptive = false;
+    AdaptiveOptions adaptive_options;
+    HierarchicalOptions hierarchical;
 };
 
 /// Writes a convergence log as CSV: step,seconds,residual,unshot_fraction,rms_error,max_error
@@ -333,9 +338,73 @@ void check_output(const std::filesystem::path& out) {
     if (std::filesystem::is_directory(out, ec)) throw InputError(out.string() + ": is a directory");
 }
 
+/// --adaptive and --solver hierarchical: quadtree elements over the patches, exported as a
+/// conforming mesh of the leaves.
+int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std::filesystem::path& out) {
+    if (s.element_split > 1) throw std::invalid_argument("--elements does not combine with --adaptive or hierarchical");
+    if (s.method != "raycast") throw std::invalid_argument("--adaptive and hierarchical use raycast form factors");
+    const bool hierarchical = s.solver == "hierarchical";
+    CommonOptions roots = o;
+    // Start coarse: the elements refine where the light needs it.
+    const bool default_meshing = o.meshing.max_area == 0 && o.meshing.max_edge == 0 && o.meshing.target_patches == 2000;
+    if (hierarchical && default_meshing) roots.meshing.subdivide = false;
+    if (!hierarchical && default_meshing) roots.meshing.target_patches = 150;
+    Scene scene;
+    const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
+    const auto visibility = make_visibility(o.visibility, mesh.patches());
+    ProgressLine progress(!o.quiet, "round", "estimate");
+    SolveResult res;
+    std::optional<PatchMesh> elements;
+    std::ostringstream settings, summary;
+    settings << "patches=" << mesh.size() << " rays=" << s.ff.visibility_rays << " seed=" << s.ff.seed;
+    if (hierarchical) {
+        HierarchicalOptions h = s.hierarchical;
+        h.form_factors = s.ff;
+        h.cancel = &g_interrupted;
+        HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
+        elements.emplace(sol.tree.conforming_mesh(sol.leaves));
+        res = std::move(sol.result);
+        const double n = double(sol.leaves.size());
+        settings << " solver=hierarchical link_epsilon=" << h.link_epsilon << " link_floor=" << h.link_floor
+                 << " max_level=" << h.max_level << " elements=" << sol.leaves.size() << " links=" << sol.links;
+        summary << "patches " << mesh.size() << ", hierarchical: " << sol.leaves.size() << " elements, " << sol.links
+                << " links (" << 100.0 * double(sol.links) / (n * n) << "% of N^2), " << res.steps << " iterations, "
+                << res.seconds << " s\n";
+    } else {
+        AdaptiveOptions a = s.adaptive_options;
+        a.form_factors = s.ff;
+        a.cancel = &g_interrupted;
+        a.progress = [&](std::size_t round, const AdaptiveRound& r) {
+            progress.update({round, 0, r.rms_estimate, a.target_error, r.seconds});
+        };
+        AdaptiveSolution sol = solve_adaptive(mesh.patches(), *visibility, a);
+        progress.finish();
+        elements.emplace(sol.tree.conforming_mesh(sol.leaves));
+        res = std::move(sol.result);
+        settings << " solver=adaptive target_error=" << a.target_error << " max_patches=" << a.max_elements
+                 << " elements=" << sol.leaves.size() << " rounds=" << sol.rounds.size();
+        summary << "patches " << mesh.size() << ", adaptive: " << sol.leaves.size() << " elements after "
+                << sol.rounds.size() << " rounds, RMS error estimate " << sol.rounds.back().rms_estimate << " (target "
+                << a.target_error << "), " << res.seconds << " s\n";
+        res.converged = res.converged && sol.rounds.back().rms_estimate <= a.target_error;
+        if (!res.converged && res.status == "converged") res.status = "element budget reached";
+    }
+    write_vtu(out, *elements, res, {o.scene, settings.str()}, s.ascii);
+    if (interrupted_exit_code()) {
+        std::cerr << "bounce: interrupted; wrote the solution so far to " << out.string() << " (converged = 0)\n";
+        return interrupted_exit_code();
+    }
+    if (!s.png.empty()) render_solution(*elements, res, {o.scene, settings.str()}, s.png, s.render);
+    if (!o.quiet)
+        std::cout << summary.str() << "wrote " << out.string() << (s.png.empty() ? "" : " and " + s.png) << "\n";
+    if (!res.converged && !o.quiet) std::cerr << "bounce: not converged (" << res.status << "); the solution was written\n";
+    return res.converged ? 0 : 3;
+}
+
 int run_solve(const CommonOptions& o, const SolveCommand& s) {
     const std::filesystem::path out = s.output.empty() ? default_output(o.scene) : s.output;
     check_output(out);
+    if (s.adaptive || s.solver == "hierarchical") return run_solve_elements(o, s, out);
     if (!s.log_csv.empty()) check_output(s.log_csv);
 
     const bool elements = s.element_split > 1;
@@ -565,8 +634,24 @@ int main(int argc, char** argv) {
     auto* solve_cmd = app.add_subcommand("solve", "compute radiosity and write a .vtu");
     add_meshing_options(solve_cmd, common);
     solve_cmd->add_option("-o,--output", solve.output, "output .vtu (default: <scene>.vtu)");
-    solve_cmd->add_option("--solver", solve.solver, "shooting, gauss-seidel, jacobi or direct")
-        ->check(CLI::IsMember(bounce::solver_names()));
+    std::vector<std::string> solve_solvers = bounce::solver_names();
+    solve_solvers.push_back("hierarchical");
+    solve_cmd->add_option("--solver", solve.solver, "shooting, gauss-seidel, jacobi, direct or hierarchical")
+        ->check(CLI::IsMember(solve_solvers));
+    solve_cmd->add_flag("--adaptive", solve.adaptive,
+                        "adaptive subdivision: patches (150 unless meshing is given) refined into elements where the "
+                        "radiosity varies");
+    solve_cmd->add_option("--target-error", solve.adaptive_options.target_error,
+                          "adaptive: stop when the RMS error estimate is below this (relative; 0.05)")
+        ->check(kPositive);
+    solve_cmd->add_option("--max-patches", solve.adaptive_options.max_elements, "adaptive: element budget (20000)")
+        ->check(CLI::Range(std::size_t(1), std::size_t(10000000)));
+    solve_cmd->add_option("--link-epsilon", solve.hierarchical.link_epsilon,
+                          "hierarchical: link error bound, a share of what the link brings (0.1)")
+        ->check(kPositive);
+    solve_cmd->add_option("--max-level", solve.hierarchical.max_level,
+                          "hierarchical: quadtree depth under each input face (4)")
+        ->check(CLI::Range(0, 12));
     solve_cmd->add_option("--tolerance", solve.options.tolerance,
                           "stop below this unshot fraction (shooting) or relative residual (others); 1e-3")
         ->check(kPositive);

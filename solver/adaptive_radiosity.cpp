@@ -162,7 +162,7 @@ public:
         }
         res.seconds = seconds();
         out.rounds.push_back({n, max_est, std::sqrt(sum_sq / area), res.seconds});
-        if (m_options.progress) m_options.progress(out.rounds.size(), n, max_est);
+        if (m_options.progress) m_options.progress(out.rounds.size(), out.rounds.back());
     }
 
     double seconds() const {

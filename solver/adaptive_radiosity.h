@@ -15,14 +15,14 @@ namespace bounce {
 class Visibility;
 
 struct AdaptiveOptions {
-    double target_error = 0.02;       // stop when the area-weighted RMS of the estimates is below this
+    double target_error = 0.05;       // stop when the area-weighted RMS of the estimates is below this
     std::size_t max_elements = 20000; // element budget (the CLI's --max-patches)
-    int max_rounds = 12;              // refine-and-solve rounds at most
+    int max_rounds = 16;              // refine-and-solve rounds at most
     int max_level = 10;               // no element smaller than its patch / 4^max_level
     double tolerance = 1e-6;          // relative residual of each round's patch-level solve
     FormFactorOptions form_factors;
     const std::atomic<bool>* cancel = nullptr;
-    std::function<void(std::size_t round, std::size_t elements, double max_estimate)> progress;
+    std::function<void(std::size_t round, const struct AdaptiveRound&)> progress;  // after every round
 };
 
 /// One refine-and-solve round.

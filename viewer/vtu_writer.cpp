@@ -107,7 +107,9 @@ vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, c
     for (std::size_t i = 0; i < n; ++i) {
         const auto ids = mesh.patch_vertex_indices(i);
         std::vector<vtkIdType> cell(ids.begin(), ids.end());
-        grid->InsertNextCell(ids.size() == 4 ? VTK_QUAD : VTK_TRIANGLE, vtkIdType(cell.size()), cell.data());
+        // Conforming element meshes carry extra points on their edges: general polygons.
+        const int type = ids.size() == 3 ? VTK_TRIANGLE : (ids.size() == 4 ? VTK_QUAD : VTK_POLYGON);
+        grid->InsertNextCell(type, vtkIdType(cell.size()), cell.data());
         const Patch& p = patches[i];
         set_rgb(radiosity, i, result.radiosity[i]);
         set_rgb(emission, i, p.emission);
