@@ -538,12 +538,91 @@ struct CompareCommand {
     FormFactorOptions ff;
     std::size_t max_matrix_mb = 2048;
     std::size_t max_direct = 4000;
+    bool meshes = false;
+    int reference_level = 5;
 };
+
+/// bounce compare --meshes: uniform element meshes of several sizes, adaptive subdivision at
+/// several targets and hierarchical radiosity at several link tolerances, all over the same
+/// patches and against one fine uniform reference; meshes.csv, meshes.png and a table.
+int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
+    std::error_code ec;
+    std::filesystem::create_directories(c.out, ec);
+    if (!std::filesystem::is_directory(c.out)) throw InputError(c.out + ": cannot create the output directory");
+    CommonOptions roots = o;
+    if (o.meshing.max_area == 0 && o.meshing.max_edge == 0 && o.meshing.target_patches == 2000)
+        roots.meshing.target_patches = 30;  // the Cornell box: 60 patches
+    Scene scene;
+    const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
+    const auto& P = mesh.patches();
+    const auto visibility = make_visibility(o.visibility, P);
+    AdaptiveOptions a;
+    a.form_factors = c.ff;
+    a.max_elements = 200000;
+    a.cancel = &g_interrupted;
+    const double per_level = 4.0;
+    check_memory(o, "the reference elements' form-factor rows",
+                 double(P.size()) * std::pow(per_level, c.reference_level) * double(P.size()) * 4.0 * 2.0);
+    const AdaptiveSolution reference = solve_uniform_elements(P, *visibility, c.reference_level, a);
+    struct Row {
+        std::string method, setting;
+        std::size_t elements = 0, links = 0;
+        double seconds = 0.0, rms = 0.0;
+    };
+    std::vector<Row> rows;
+    rows.push_back({"reference", "uniform level " + std::to_string(c.reference_level), reference.leaves.size(), 0,
+                    reference.result.seconds, 0.0});
+    for (int level = 0; level < c.reference_level; ++level) {
+        const AdaptiveSolution u = solve_uniform_elements(P, *visibility, level, a);
+        rows.push_back({"uniform", "level " + std::to_string(level), u.leaves.size(), 0, u.result.seconds,
+                        rms_difference(u, reference)});
+    }
+    for (const double target : {0.2, 0.1, 0.07, 0.05, 0.035}) {
+        AdaptiveOptions t = a;
+        t.target_error = target;
+        const AdaptiveSolution s = solve_adaptive(P, *visibility, t);
+        std::ostringstream setting;
+        setting << "target " << target;
+        rows.push_back({"adaptive", setting.str(), s.leaves.size(), 0, s.result.seconds, rms_difference(s, reference)});
+    }
+    for (const double eps : {0.4, 0.2, 0.1}) {
+        HierarchicalOptions h;
+        h.form_factors = c.ff;
+        h.link_epsilon = eps;
+        h.max_level = std::max(1, c.reference_level - 2);
+        h.cancel = &g_interrupted;
+        const HierarchicalSolution s = solve_hierarchical(P, *visibility, h);
+        std::ostringstream setting;
+        setting << "link epsilon " << eps;
+        rows.push_back({"hierarchical", setting.str(), s.leaves.size(), s.links, s.result.seconds,
+                        rms_difference(s.tree, s.leaves, s.result.radiosity, reference)});
+    }
+    if (interrupted_exit_code()) return interrupted_exit_code();
+    std::ostringstream csv;
+    csv << "method,setting,elements,links,seconds,rms_error\n";
+    for (const auto& r : rows)
+        csv << r.method << "," << r.setting << "," << r.elements << "," << r.links << "," << r.seconds << "," << r.rms
+            << "\n";
+    const std::filesystem::path dir = c.out;
+    write_text_file(dir / "meshes.csv", [&](std::ostream& out) { out << csv.str(); }, "mesh comparison");
+    write_mesh_charts(dir);
+    if (!o.quiet) {
+        std::printf("%zu patches; RMS error of the reflected radiosity against %zu uniform elements (%d rays a pair)\n",
+                    P.size(), reference.leaves.size(), c.ff.visibility_rays);
+        std::printf("%-13s %-18s %9s %10s %9s %9s\n", "method", "setting", "elements", "links", "seconds", "rms error");
+        for (const auto& r : rows)
+            std::printf("%-13s %-18s %9zu %10s %9.3f %9.4f\n", r.method.c_str(), r.setting.c_str(), r.elements,
+                        r.links ? std::to_string(r.links).c_str() : "-", r.seconds, r.rms);
+        std::cout << "wrote " << (dir / "meshes.csv").string() << " and meshes.png\n";
+    }
+    return 0;
+}
 
 /// Every requested solver on every requested form-factor method, on one meshing, against one
 /// reference: the direct solution on the first method's matrix when the scene is small
 /// enough, else Gauss-Seidel to a relative residual of 1e-12 (said so).
 int run_compare(const CommonOptions& o, const CompareCommand& c) {
+    if (c.meshes) return run_compare_meshes(o, c);
     std::error_code ec;
     std::filesystem::create_directories(c.out, ec);
     if (!std::filesystem::is_directory(c.out)) throw InputError(c.out + ": cannot create the output directory");
@@ -699,6 +778,12 @@ int main(int argc, char** argv) {
     cmp_cmd->add_option("--max-iterations", cmp.options.max_iterations, "shots or sweeps limit");
     cmp_cmd->add_option("--sor", cmp.options.sor, "over-relaxation for jacobi and gauss-seidel")->check(CLI::Range(0.0, 2.0));
     cmp_cmd->add_option("--max-matrix-mb", cmp.max_matrix_mb, "refuse a matrix larger than this (MB)");
+    cmp_cmd->add_flag("--meshes", cmp.meshes,
+                      "compare uniform, adaptive and hierarchical meshes over the same patches (60 for the box) "
+                      "against one fine uniform reference, instead of solvers");
+    cmp_cmd->add_option("--reference-level", cmp.reference_level,
+                        "--meshes: the reference cuts every patch into 4^level elements (5)")
+        ->check(CLI::Range(1, 7));
     add_form_factor_options(cmp_cmd, cmp.ff);
 
     solve_cmd->add_option("--png", solve.png, "render the result to this PNG after solving");

@@ -237,20 +237,25 @@ AdaptiveSolution solve_uniform_elements(const std::vector<Patch>& patches, const
 }
 
 double rms_difference(const AdaptiveSolution& a, const AdaptiveSolution& ref) {
-    if (a.tree.root_count() != ref.tree.root_count())
+    return rms_difference(a.tree, a.leaves, a.result.radiosity, ref);
+}
+
+double rms_difference(const ElementTree& tree, const std::vector<std::uint32_t>& leaves,
+                      const std::vector<Rgb>& radiosity, const AdaptiveSolution& ref) {
+    if (tree.root_count() != ref.tree.root_count() || radiosity.size() != leaves.size())
         throw std::invalid_argument("rms_difference: the solutions are over different patches");
     std::map<std::uint32_t, std::size_t> index;
-    for (std::size_t i = 0; i < a.leaves.size(); ++i) index[a.leaves[i]] = i;
+    for (std::size_t i = 0; i < leaves.size(); ++i) index[leaves[i]] = i;
     double num = 0.0, den = 0.0;
     for (std::size_t i = 0; i < ref.leaves.size(); ++i) {
         const auto& node = ref.tree.node(ref.leaves[i]);
         glm::dvec2 centre(0.0);
         for (int k = 0; k < node.corner_count; ++k) centre += node.corners[k];
         centre /= double(node.corner_count);
-        const std::size_t j = index.at(a.tree.locate(node.root, centre));
+        const std::size_t j = index.at(tree.locate(node.root, centre));
         const Patch& g = ref.tree.geometry()[ref.leaves[i]];
         for (int c = 0; c < 3; ++c) {
-            const double d = a.result.radiosity[j][c] - ref.result.radiosity[i][c];
+            const double d = radiosity[j][c] - ref.result.radiosity[i][c];
             const double reflected = ref.result.radiosity[i][c] - g.emission[c];
             num += g.area * d * d;
             den += g.area * reflected * reflected;

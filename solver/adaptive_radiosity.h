@@ -66,5 +66,8 @@ AdaptiveSolution solve_uniform_elements(const std::vector<Patch>& patches, const
 /// solution on `a`'s elements and a reference on `ref`'s elements over the same patches; each
 /// reference element is compared with the element of `a` that contains its centre.
 double rms_difference(const AdaptiveSolution& a, const AdaptiveSolution& ref);
+/// The same for any solution on leaves of a tree over the same patches (hierarchical radiosity).
+double rms_difference(const ElementTree& tree, const std::vector<std::uint32_t>& leaves,
+                      const std::vector<Rgb>& radiosity, const AdaptiveSolution& ref);
 
 }  // namespace bounce

@@ -13,4 +13,10 @@ void write_comparison_charts(const std::filesystem::path& folder) {
     if (std::system(cmd.c_str()) != 0) throw std::runtime_error("drawing the charts failed: " + cmd);
 }
 
+void write_mesh_charts(const std::filesystem::path& folder) {
+    const std::filesystem::path script = std::filesystem::path(BOUNCE_CHARTS_DIR) / "plot_meshes.py";
+    const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + folder.string() + "'";
+    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("drawing the charts failed: " + cmd);
+}
+
 }  // namespace bounce

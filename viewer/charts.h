@@ -10,4 +10,8 @@ namespace bounce {
 /// Throws std::runtime_error when the plotting fails.
 void write_comparison_charts(const std::filesystem::path& folder);
 
+/// Draws meshes.png in `folder` from its meshes.csv (bounce compare --meshes): RMS error
+/// against elements and against seconds, for uniform, adaptive and hierarchical meshes.
+void write_mesh_charts(const std::filesystem::path& folder);
+
 }  // namespace bounce

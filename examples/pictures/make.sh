@@ -9,3 +9,7 @@ bounce="$here/../../scripts/bounce.sh"
 "$bounce" render "$here/cornell.vtu" -o "$here/cornell_luminance.png" --luminance --edges --size 600x600
 rm -f "$here/cornell.vtu"
 echo "wrote $here/cornell.png and cornell_luminance.png"
+# Adaptive subdivision with the element edges drawn: fine at shadow edges, coarse on open walls.
+"$bounce" solve -q --adaptive -o "$here/cornell_adaptive.vtu" --png "$here/cornell_adaptive.png" --edges --size 600x600
+rm -f "$here/cornell_adaptive.vtu"
+echo "wrote $here/cornell_adaptive.png"

@@ -309,3 +309,42 @@ TEST(Cli, StrictTurnsGeometryWarningsIntoErrors) {
     EXPECT_NE(np.err.find("non-planar"), std::string::npos) << np.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "np.vtu"));
 }
+
+TEST(Cli, VisibilityBackendsGiveTheSameSolution) {
+    test::TempDir dir;
+    const auto a = bounce_run("solve -q --patches 300 --visibility embree --ascii -o " + (dir / "e.vtu").string());
+    const auto b = bounce_run("solve -q --patches 300 --visibility cgal --ascii -o " + (dir / "c.vtu").string());
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    ASSERT_EQ(b.exit_code, 0) << b.err;
+    // The files differ only in the recorded seconds; compare the radiosity array's text.
+    auto radiosity = [](const std::string& text) {
+        const auto at = text.find("Name=\"radiosity\"");
+        return text.substr(at, text.find("</DataArray>", at) - at);
+    };
+    EXPECT_EQ(radiosity(slurp(dir / "e.vtu")), radiosity(slurp(dir / "c.vtu")));
+    EXPECT_EQ(bounce_run("solve --visibility optix").exit_code, 2);
+}
+
+TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
+    test::TempDir dir;
+    const auto a = bounce_run("solve --adaptive --patches 60 --target-error 0.1 --ascii -o " + (dir / "a.vtu").string());
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    EXPECT_NE(a.out.find("adaptive:"), std::string::npos) << a.out;
+    // Elements with a finer neighbour carry its vertices: VTK polygons (type 7).
+    const std::string text = slurp(dir / "a.vtu");
+    const auto at = text.find("Name=\"types\"");
+    ASSERT_NE(at, std::string::npos);
+    const std::string types = text.substr(text.find('>', at) + 1, text.find("</DataArray>", at) - text.find('>', at) - 1);
+    EXPECT_NE(types.find('7'), std::string::npos) << "no polygon cells";
+    EXPECT_NE(types.find('9'), std::string::npos) << "no quad cells";
+    const auto h = bounce_run("solve --solver hierarchical --max-level 2 -o " + (dir / "h.vtu").string());
+    ASSERT_EQ(h.exit_code, 0) << h.err;
+    EXPECT_NE(h.out.find("links"), std::string::npos) << h.out;
+    // A budget too small for the target: the solution is written, exit 3.
+    const auto tight = bounce_run("solve -q --adaptive --patches 60 --target-error 0.001 --max-patches 200 -o " +
+                                  (dir / "t.vtu").string());
+    EXPECT_EQ(tight.exit_code, 3);
+    EXPECT_TRUE(std::filesystem::exists(dir / "t.vtu"));
+    EXPECT_EQ(bounce_run("solve --adaptive --target-error 0").exit_code, 2);
+    EXPECT_EQ(bounce_run("solve --adaptive --elements 2").exit_code, 2);
+}
