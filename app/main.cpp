@@ -110,6 +110,13 @@ PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& 
     return PatchMesh(scene, m);
 }
 
+/// True when the user gave no meshing (no --max-area, --max-edge or --patches): the element
+/// methods then start from coarser patches of their own.
+bool default_meshing(const CommonOptions& o) {
+    return o.meshing.max_area == 0 && o.meshing.max_edge == 0 &&
+           o.meshing.target_patches == MeshingOptions{}.target_patches;
+}
+
 /// Refuses work whose estimate exceeds --max-memory, naming the estimate.
 void check_memory(const CommonOptions& o, const std::string& what, double bytes) {
     if (bytes > double(o.max_memory_mb << 20)) {
@@ -346,9 +353,8 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     const bool hierarchical = s.solver == "hierarchical";
     CommonOptions roots = o;
     // Start coarse: the elements refine where the light needs it.
-    const bool default_meshing = o.meshing.max_area == 0 && o.meshing.max_edge == 0 && o.meshing.target_patches == 2000;
-    if (hierarchical && default_meshing) roots.meshing.subdivide = false;
-    if (!hierarchical && default_meshing) roots.meshing.target_patches = 150;
+    if (hierarchical && default_meshing(o)) roots.meshing.subdivide = false;
+    if (!hierarchical && default_meshing(o)) roots.meshing.target_patches = 150;
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
     const auto visibility = make_visibility(o.visibility, mesh.patches());
@@ -550,7 +556,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     std::filesystem::create_directories(c.out, ec);
     if (!std::filesystem::is_directory(c.out)) throw InputError(c.out + ": cannot create the output directory");
     CommonOptions roots = o;
-    if (o.meshing.max_area == 0 && o.meshing.max_edge == 0 && o.meshing.target_patches == 2000)
+    if (default_meshing(o))
         roots.meshing.target_patches = 30;  // the Cornell box: 60 patches
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);

@@ -2,9 +2,11 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <span>
 #include <string>
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "mesh/rgb.h"
@@ -25,7 +27,18 @@ struct Patch {
     int surface = 0;                        // index of the input surface it was cut from
 
     std::span<const glm::dvec3> polygon() const { return {vertices.data(), std::size_t(vertex_count)}; }
+    /// Signed height of x above the patch's plane (positive in front).
+    double height(const glm::dvec3& x) const { return glm::dot(normal, x - vertices[0]); }
     std::string to_string() const;
 };
+
+/// True when no vertex of `q` is strictly in front of `p`: p cannot send power to q (and, by
+/// reciprocity, q none to p). The tolerance absorbs rounding of coplanar neighbours.
+inline bool wholly_behind(const Patch& p, const Patch& q) {
+    const double tol = 1e-12 * std::sqrt(p.area + q.area);
+    for (int k = 0; k < q.vertex_count; ++k)
+        if (p.height(q.vertices[k]) > tol) return false;
+    return true;
+}
 
 }  // namespace bounce

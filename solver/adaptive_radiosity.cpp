@@ -10,6 +10,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "solver/convergence.h"
 #include "solver/form_factor_matrix.h"
 #include "solver/raycast_form_factor.h"
 #include "solver/solver.h"
@@ -112,8 +113,6 @@ public:
         res.irradiance.resize(n);
         res.unshot.assign(n, Rgb());
         double area = 0.0;
-        Rgb power;
-        Rgb arriving;
         for (std::size_t i = 0; i < n; ++i) {
             const Patch& g = G[L[i]];
             const auto& row = m_rows.at(L[i]);
@@ -122,14 +121,9 @@ public:
                 if (row[q] != 0.0f) h += patch.radiosity[q] * double(row[q]);
             res.irradiance[i] = h;
             res.radiosity[i] = g.emission + g.reflectance * h;
-            res.emitted_power += g.emission * g.area;
-            res.absorbed_power += (h - g.reflectance * h) * g.area;
-            arriving += h * g.area;
-            power += res.radiosity[i] * g.area;
             area += g.area;
         }
-        // What left the surfaces and arrived nowhere went out through the openings.
-        res.escaped_power = power - arriving;
+        gathered_energy_account(G, L, res);
         // Scale of the estimates: the mean square reflected radiosity, summed over channels
         // (emitters left out, or the light's E would swamp every estimate).
         double norm = 0.0;

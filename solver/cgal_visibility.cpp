@@ -22,16 +22,10 @@ K::Point_3 to_cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
 class CgalVisibility final : public Visibility {
 public:
     explicit CgalVisibility(const std::vector<Patch>& patches) {
-        glm::dvec3 lo(1e300), hi(-1e300);
-        for (const auto& p : patches) {
-            for (int k = 0; k < p.vertex_count; ++k) {
-                lo = glm::min(lo, p.vertices[k]);
-                hi = glm::max(hi, p.vertices[k]);
-            }
+        fit_offset(patches);
+        for (const auto& p : patches)
             for (int k = 1; k + 1 < p.vertex_count; ++k)
                 m_triangles.emplace_back(to_cgal(p.vertices[0]), to_cgal(p.vertices[k]), to_cgal(p.vertices[k + 1]));
-        }
-        m_offset = patches.empty() ? 0.0 : 1e-6 * glm::length(hi - lo);
         m_tree.insert(m_triangles.cbegin(), m_triangles.cend());
         m_tree.build();  // build now: lazy construction inside concurrent queries would race
     }

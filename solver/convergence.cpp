@@ -56,4 +56,19 @@ double contraction_bound(const std::vector<Patch>& patches, const std::vector<do
     return worst;
 }
 
+void gathered_energy_account(const std::vector<Patch>& geometry, const std::vector<std::uint32_t>& leaves,
+                             SolveResult& res) {
+    res.emitted_power = res.absorbed_power = res.escaped_power = res.unshot_power = Rgb();
+    Rgb power, arriving;
+    for (std::size_t k = 0; k < leaves.size(); ++k) {
+        const Patch& g = geometry[leaves[k]];
+        const Rgb& h = res.irradiance[k];
+        res.emitted_power += g.emission * g.area;
+        res.absorbed_power += (h - g.reflectance * h) * g.area;
+        arriving += h * g.area;
+        power += res.radiosity[k] * g.area;
+    }
+    res.escaped_power = power - arriving;
+}
+
 }  // namespace bounce

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "mesh/patch.h"
@@ -22,5 +23,12 @@ void reference_errors(const std::vector<Rgb>& B, const std::vector<Rgb>& referen
 /// rho F. At or above 1 the iteration need not converge (reflectance 1 in a closed scene makes
 /// the system singular; rows summing above 1 make it diverge).
 double contraction_bound(const std::vector<Patch>& patches, const std::vector<double>& row_sums);
+
+/// The energy account of a gathering solution on elements: element k is geometry[leaves[k]]
+/// with res.radiosity[k] and res.irradiance[k] set. Fills emitted, absorbed ((1 - rho) H A)
+/// and escaped power (what leaves the surfaces, B A, less what arrives, H A: it went out
+/// through the openings); nothing is unshot.
+void gathered_energy_account(const std::vector<Patch>& geometry, const std::vector<std::uint32_t>& leaves,
+                             SolveResult& res);
 
 }  // namespace bounce

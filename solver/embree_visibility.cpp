@@ -21,17 +21,9 @@ namespace {
 class EmbreeVisibility final : public Visibility {
 public:
     explicit EmbreeVisibility(const std::vector<Patch>& patches) {
-        glm::dvec3 lo(1e300), hi(-1e300);
+        m_centre = fit_offset(patches);
         std::size_t triangles = 0;
-        for (const auto& p : patches) {
-            for (int k = 0; k < p.vertex_count; ++k) {
-                lo = glm::min(lo, p.vertices[k]);
-                hi = glm::max(hi, p.vertices[k]);
-            }
-            triangles += std::size_t(p.vertex_count - 2);
-        }
-        m_centre = patches.empty() ? glm::dvec3(0.0) : 0.5 * (lo + hi);
-        m_offset = patches.empty() ? 0.0 : 1e-6 * glm::length(hi - lo);
+        for (const auto& p : patches) triangles += std::size_t(p.vertex_count - 2);
 
         // "verbose=0": Embree would otherwise print to stdout, which may be a pipe we own.
         m_device = rtcNewDevice("verbose=0");

@@ -4,9 +4,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <span>
-
 #include <cstdint>
+#include <span>
 
 #include <tbb/parallel_for.h>
 
@@ -33,6 +32,8 @@ FormFactorMatrix FormFactorMatrix::build(const FormFactorEstimator& estimator, s
             if (cancel && cancel->load()) return;
             const std::span<float> row(m.m_f.data() + i * n, n);
             if (upper_only) {
+                // Per row, not thread_local: compute_row runs nested parallel loops, and a worker
+                // waiting in one may start another row on this thread.
                 std::vector<std::uint8_t> known(n, 0);
                 std::fill(known.begin(), known.begin() + std::ptrdiff_t(i + 1), 1);
                 estimator.compute_row(i, row, known);

@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 
+#include "solver/convergence.h"
 #include "solver/point_polygon_form_factor.h"
 #include "solver/raycast_form_factor.h"
 #include "solver/visibility.h"
@@ -21,18 +22,10 @@ struct Link {
     float fab = 0.0f;    // F_ab; F_ba = F_ab A_a / A_b
 };
 
-/// True when some vertex of q is strictly in front of p.
-bool any_in_front(const Patch& p, const Patch& q) {
-    const double tol = 1e-12 * std::sqrt(p.area + q.area);
-    for (int k = 0; k < q.vertex_count; ++k)
-        if (glm::dot(p.normal, q.vertices[k] - p.vertices[0]) > tol) return true;
-    return false;
-}
-
 /// The point of polygon a nearest to x (a convex, planar): x projected onto a's plane, or,
 /// when that falls outside, the nearest point of its edges.
 glm::dvec3 nearest_point(const Patch& a, const glm::dvec3& x) {
-    const glm::dvec3 p = x - glm::dot(a.normal, x - a.vertices[0]) * a.normal;
+    const glm::dvec3 p = x - a.height(x) * a.normal;
     bool inside = true;
     for (int k = 0; k < a.vertex_count; ++k) {
         const glm::dvec3 u = a.vertices[k], v = a.vertices[(k + 1) % a.vertex_count];
@@ -65,7 +58,7 @@ struct Spread {
 Spread point_factor_spread(const Patch& a, const Patch& b) {
     auto at = [&](const glm::dvec3& y) {
         const glm::dvec3 x = y + 1e-4 * (a.centre - y);
-        if (glm::dot(b.normal, x - b.vertices[0]) <= 0.0) return 0.0;  // behind b: b sends it nothing
+        if (b.height(x) <= 0.0) return 0.0;  // behind b: b sends it nothing
         return point_polygon_form_factor(x, a.normal, b.polygon());
     };
     double lo = at(a.centre), hi = lo, sum = lo;
@@ -148,25 +141,16 @@ void solve_links(const ElementTree& tree, const std::vector<Link>& links, const 
 /// The leaves' radiosity and irradiance, and the energy account, into out.result.
 void finish_result(const ElementTree& tree, const std::vector<Rgb>& B, const std::vector<Rgb>& H,
                    HierarchicalSolution& out) {
-    const auto& G = tree.geometry();
     SolveResult& res = out.result;
     out.leaves = tree.leaves();
     res.radiosity.resize(out.leaves.size());
     res.irradiance.resize(out.leaves.size());
     res.unshot.assign(out.leaves.size(), Rgb());
-    res.emitted_power = res.absorbed_power = res.escaped_power = res.unshot_power = Rgb();
-    Rgb power, arriving;
     for (std::size_t k = 0; k < out.leaves.size(); ++k) {
-        const std::uint32_t i = out.leaves[k];
-        res.radiosity[k] = B[i];
-        res.irradiance[k] = H[i];
-        res.emitted_power += G[i].emission * G[i].area;
-        res.absorbed_power += (H[i] - G[i].reflectance * H[i]) * G[i].area;
-        arriving += H[i] * G[i].area;
-        power += B[i] * G[i].area;
+        res.radiosity[k] = B[out.leaves[k]];
+        res.irradiance[k] = H[out.leaves[k]];
     }
-    // What left the surfaces and arrived nowhere went out through the openings.
-    res.escaped_power = power - arriving;
+    gathered_energy_account(tree.geometry(), out.leaves, res);
 }
 
 class Refiner {
@@ -183,7 +167,7 @@ public:
     /// irradiance plus the floors.
     void refine(std::uint32_t a, std::uint32_t b) {
         const auto& G = m_tree.geometry();
-        if (!any_in_front(G[a], G[b]) || !any_in_front(G[b], G[a])) return;
+        if (wholly_behind(G[a], G[b]) || wholly_behind(G[b], G[a])) return;
         const Spread ab = point_factor_spread(G[a], G[b]), ba = point_factor_spread(G[b], G[a]);
         const double lb = m_b[b].luminance(), la = m_b[a].luminance();
         const double eps = m_options.link_epsilon, floor = m_options.link_floor * m_scale;
@@ -260,6 +244,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     std::vector<Link> links;
     std::vector<Rgb> H;
     for (int round = 0; round < options.refine_rounds; ++round) {
+        const double round_start = since_start();
         double scale = 0.0;
         for (std::uint32_t r = 0; r < patches.size(); ++r) scale += B[r].luminance() * patches[r].area;
         scale /= total_area;
@@ -273,12 +258,11 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, links.size(), 256), [&](const auto& r) {
             for (std::size_t k = r.begin(); k != r.end(); ++k) links[k].fab = float(ff.pair(links[k].a, links[k].b));
         });
-        if (round == 0) out.refine_seconds = 0.0;
+        out.refine_seconds += since_start() - round_start;
         solve_links(tree, links, options, B, H, res);
         if (res.status == "interrupted") break;
     }
     out.links = links.size();
-    out.refine_seconds = since_start();
     finish_result(tree, B, H, out);
     res.seconds = since_start();
     return out;

@@ -30,7 +30,7 @@ struct HierarchicalSolution {
     std::vector<std::uint32_t> leaves;  // the elements of the result
     SolveResult result;                 // per leaf
     std::size_t links = 0;              // element-to-element interactions
-    double refine_seconds = 0.0;        // building the links (form factors included)
+    double refine_seconds = 0.0;        // building the links (form factors included), all rounds
 };
 
 /// Hierarchical radiosity (Hanrahan, Salzman and Aupperle 1991) with BF refinement. Each pair

@@ -18,17 +18,6 @@
 namespace bounce {
 namespace {
 
-/// Signed height of x above the plane of patch p.
-double height(const Patch& p, const glm::dvec3& x) { return glm::dot(p.normal, x - p.vertices[0]); }
-
-/// True when no vertex of `q` is strictly in front of `p` (p cannot send power to q).
-bool wholly_behind(const Patch& p, const Patch& q) {
-    const double tol = 1e-12 * std::sqrt(p.area + q.area);
-    for (int k = 0; k < q.vertex_count; ++k)
-        if (height(p, q.vertices[k]) > tol) return false;
-    return true;
-}
-
 double patch_size(const Patch& p) {
     double s = 0.0;
     for (int k = 0; k < p.vertex_count; ++k)
@@ -62,22 +51,16 @@ double RaycastFormFactor::visible_fraction(std::size_t i, std::size_t j) const {
     for (int k = cells - 1; k > 0; --k) std::swap(perm[k], perm[rng.next() % std::uint64_t(k + 1)]);
     const double eps = m_visibility->offset();
     thread_local std::vector<Visibility::Segment> rays;
-    thread_local std::vector<std::uint8_t> blocked;
     rays.clear();
     for (int r = 0; r < m; ++r) {
         const int ca = r % cells, cb = perm[r % cells];
         const glm::dvec3 pa = patch_point(a, (ca % side + rng.uniform()) / side, (ca / side + rng.uniform()) / side);
         const glm::dvec3 pb = patch_point(b, (cb % side + rng.uniform()) / side, (cb / side + rng.uniform()) / side);
         // Rays from points behind the other patch carry no power; leave them out.
-        if (height(a, pb) <= eps || height(b, pa) <= eps) continue;
+        if (a.height(pb) <= eps || b.height(pa) <= eps) continue;
         rays.push_back({pa + eps * a.normal, pb + eps * b.normal});
     }
-    blocked.resize(rays.size());
-    m_visibility->occluded(rays, blocked);
-    const int valid = int(rays.size());
-    int open = 0;
-    for (const std::uint8_t b : blocked) open += b ? 0 : 1;
-    return valid == 0 ? 1.0 : double(open) / valid;
+    return m_visibility->open_fraction(rays);
 }
 
 double RaycastFormFactor::point_factor(const glm::dvec3& x, const glm::dvec3& n, std::size_t j,
@@ -85,14 +68,13 @@ double RaycastFormFactor::point_factor(const glm::dvec3& x, const glm::dvec3& n,
     const Patch& q = m_patches[j];
     const double eps = m_visibility ? m_visibility->offset() : 0.0;
     // A one-sided emitter sends nothing backwards; a point on q's own plane sees none of it.
-    if (height(q, x) <= std::max(eps, 1e-12 * std::sqrt(q.area))) return 0.0;
+    if (q.height(x) <= std::max(eps, 1e-12 * std::sqrt(q.area))) return 0.0;
     const double f = point_polygon_form_factor(x, n, q.polygon());
     if (f <= 0.0 || !m_visibility) return std::max(f, 0.0);
     const int m = m_options.visibility_rays;
     const int side = int(std::ceil(std::sqrt(double(m))));
     SplitMix64 rng{m_options.seed * 0x9E3779B97F4A7C15ull ^ stream * 0xD1B54A32D192ED03ull ^ std::uint64_t(j)};
     thread_local std::vector<Visibility::Segment> rays;
-    thread_local std::vector<std::uint8_t> blocked;
     rays.clear();
     for (int r = 0; r < m; ++r) {
         const int c = r % (side * side);
@@ -100,12 +82,7 @@ double RaycastFormFactor::point_factor(const glm::dvec3& x, const glm::dvec3& n,
         if (glm::dot(n, pq - x) <= eps) continue;  // below x's tangent plane: carries nothing
         rays.push_back({x + eps * n, pq + eps * q.normal});
     }
-    if (rays.empty()) return f;
-    blocked.resize(rays.size());
-    m_visibility->occluded(rays, blocked);
-    int open = 0;
-    for (const std::uint8_t b : blocked) open += b ? 0 : 1;
-    return f * double(open) / double(rays.size());
+    return f * m_visibility->open_fraction(rays);
 }
 
 double RaycastFormFactor::pair(std::size_t i, std::size_t j) const {
@@ -130,7 +107,7 @@ double RaycastFormFactor::directed(std::size_t i, std::size_t j) const {
     double fji = 0.0;
     bool straddles = false;
     const double below = -1e-9 * std::sqrt(r.area);  // rounding: a vertex on the plane is not below it
-    for (int k = 0; k < r.vertex_count; ++k) straddles |= height(s, r.vertices[k]) < below;
+    for (int k = 0; k < r.vertex_count; ++k) straddles |= s.height(r.vertices[k]) < below;
     if (!straddles) {
         patch_quadrature(r, n, samples);
         for (const auto& q : samples) fji += q.weight * point_polygon_form_factor(q.point, r.normal, s.polygon());
@@ -143,7 +120,7 @@ double RaycastFormFactor::directed(std::size_t i, std::size_t j) const {
         int m = 0;
         for (int k = 0; k < r.vertex_count; ++k) {
             const glm::dvec3 &a = r.vertices[k], &b = r.vertices[(k + 1) % r.vertex_count];
-            const double ha = height(s, a), hb = height(s, b);
+            const double ha = s.height(a), hb = s.height(b);
             if (ha > 0) clip[m++] = a;
             if ((ha > 0) != (hb > 0)) clip[m++] = a + (ha / (ha - hb)) * (b - a);
         }

@@ -45,8 +45,6 @@ SolveResult ShootingSolver::solve() {
     const double emitted = res.emitted_power.sum();
     if (!(emitted > 0.0)) throw std::invalid_argument("the scene emits no light: no surface has emission > 0");
 
-    // Rows of shooters are kept (float) while the cache budget allows: a bright patch shoots
-    // many times and its row does not change.
     // Without a hierarchy every patch shoots for itself (parents: the identity).
     const std::vector<Patch>& shooters = m_hierarchy.shooters ? *m_hierarchy.shooters : m_patches;
     const std::size_t ns = shooters.size();
@@ -66,6 +64,8 @@ SolveResult ShootingSolver::solve() {
     }
     std::vector<Rgb> gathered(ns);  // per shooter: sum over its elements of unshot radiosity x area
 
+    // Rows of shooters are kept (float) while the cache budget allows: a bright patch shoots
+    // many times and its row does not change.
     const std::size_t row_bytes = n * sizeof(float);
     std::size_t cache_rows = row_bytes ? (m_options.cache_mb << 20) / row_bytes : 0;
     std::vector<std::unique_ptr<float[]>> cache(ns);

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "mesh/patch.h"
@@ -28,12 +30,36 @@ public:
     virtual void occluded(std::span<const Segment> segments, std::span<std::uint8_t> blocked) const {
         for (std::size_t k = 0; k < segments.size(); ++k) blocked[k] = occluded(segments[k].a, segments[k].b);
     }
+    /// Fraction of the segments that arrive unblocked (traced as one batch); 1 for none.
+    double open_fraction(std::span<const Segment> segments) const {
+        if (segments.empty()) return 1.0;
+        thread_local std::vector<std::uint8_t> blocked;
+        blocked.resize(segments.size());
+        occluded(segments, blocked);
+        std::size_t open = 0;
+        for (const std::uint8_t b : blocked) open += b ? 0 : 1;
+        return double(open) / double(segments.size());
+    }
     virtual std::string name() const = 0;
     /// Distance to lift ray endpoints off their surfaces: tiny against the scene (1e-6 of its
     /// diagonal), yet far above the rounding error of the coordinates.
     double offset() const { return m_offset; }
 
 protected:
+    /// Sets the offset for these patches (1e-6 of their bounding box's diagonal, the same in
+    /// every backend, so they trace the same rays) and returns the box's centre.
+    glm::dvec3 fit_offset(const std::vector<Patch>& patches) {
+        if (patches.empty()) return glm::dvec3(0.0);
+        glm::dvec3 lo(1e300), hi(-1e300);
+        for (const auto& p : patches)
+            for (int k = 0; k < p.vertex_count; ++k) {
+                lo = glm::min(lo, p.vertices[k]);
+                hi = glm::max(hi, p.vertices[k]);
+            }
+        m_offset = 1e-6 * glm::length(hi - lo);
+        return 0.5 * (lo + hi);
+    }
+
     double m_offset = 0.0;
 };
 
