@@ -1,0 +1,117 @@
+// SPDX-License-Identifier: MIT
+// An independent witness for the radiosity solvers: a Monte Carlo estimate of the continuous
+// radiosity equation at surface points,
+//
+//     B(x) = E(x) + rho(x) * integral over surfaces of B(y) cos(theta_x) cos(theta_y) V(x,y) / (pi r^2) dA_y,
+//
+// computed on the input polygons (never on patches), so it shares no discretisation with the
+// solvers it scores.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mesh/rgb.h"
+#include "mesh/scene.h"
+
+namespace bounce {
+
+/// A point on the front side of an input surface.
+struct SurfacePoint {
+    glm::dvec3 position{0.0};  // on the surface's plane
+    glm::dvec3 normal{0.0};    // the surface's unit front normal
+    int surface = -1;          // index into Scene::surfaces
+};
+
+/// How long to sample each point.
+struct ReferenceOptions {
+    double target_error = 0.005;           // stop when se(luminance) <= target * luminance
+    std::uint64_t max_paths = 1u << 20;    // budget per point; a point that reaches it is flagged
+    std::uint64_t min_paths = 1024;        // before the first stopping test (16 batches)
+    std::uint64_t seed = 1;                // same seed -> same estimates, on any thread count
+};
+
+enum class EstimateStatus {
+    converged,    // relative standard error below the target
+    budget,       // stopped at max_paths above the target
+    interrupted,  // stopped by the caller (Ctrl-C): value so far, or none if no batch finished
+};
+std::string to_string(EstimateStatus s);
+
+/// B at one point with its standard error per channel.
+struct RadiosityEstimate {
+    Rgb radiosity;       // E + reflected, W/m^2 per channel
+    Rgb standard_error;  // of the mean, from the spread of independent batch means
+    std::uint64_t paths = 0;
+    EstimateStatus status = EstimateStatus::interrupted;
+};
+
+/// Diffuse path tracing with next-event estimation (Kajiya 1986; Veach 1997 ch. 9-10 for the
+/// estimators): at every path vertex each emitter is sampled by area, indirect light is
+/// gathered along a cosine-weighted direction, and paths end by Russian roulette on the
+/// reflectance (unbiased: the throughput is divided by the survival probability). Emitters
+/// are reached both ways, by the area sample and by the cosine-sampled ray, combined with the
+/// balance heuristic, so the variance stays finite beside edges shared with an emitter.
+///
+/// Paths are drawn in batches of 64 whose first-vertex emitter samples and directions are
+/// stratified (8x8 jittered, independently permuted); the standard error is the spread of the
+/// batch means, so it stays honest under stratification. Each point draws from its own
+/// random stream (seed, point index): results do not depend on threads or scheduling.
+/// Rays are traced by Embree in single precision around the scene's centre.
+class PathTracer {
+public:
+    explicit PathTracer(const Scene& scene);
+    ~PathTracer();
+    PathTracer(const PathTracer&) = delete;
+    PathTracer& operator=(const PathTracer&) = delete;
+
+    const Scene& scene() const { return m_scene; }
+    double diagonal() const { return m_diagonal; }
+    /// How far a given point may sit off its surface: 0.5% of the bounding-box diagonal.
+    double snap_distance() const { return 0.005 * m_diagonal; }
+
+    /// The point p snapped along n to the nearest surface (within snap_distance) whose front
+    /// faces n; nothing when there is none.
+    std::optional<SurfacePoint> locate(const glm::dvec3& p, const glm::dvec3& n) const;
+
+    /// Estimates B at one point, drawing from stream `index` of options.seed. `stop`, when set
+    /// and raised, ends sampling after the current batch (status interrupted).
+    RadiosityEstimate estimate(const SurfacePoint& x, const ReferenceOptions& options, std::uint64_t index,
+                               const std::atomic<bool>* stop = nullptr) const;
+
+    /// Estimates every point in parallel (TBB). `progress(done, total)` is called from worker
+    /// threads after each point. Points not started when `stop` is raised come back with
+    /// status interrupted and zero paths.
+    std::vector<RadiosityEstimate> estimate_all(std::span<const SurfacePoint> points, const ReferenceOptions& options,
+                                                const std::function<void(std::size_t, std::size_t)>& progress = {},
+                                                const std::atomic<bool>* stop = nullptr) const;
+
+    /// n points spread over the non-emitting surfaces by area (stratified: the k-th lies in
+    /// the k-th n-th of the total area), each at least 2% of its surface's size from the
+    /// surface's edges and on a part of the surface that some light can reach (points enclosed
+    /// by back faces, like a floor under a block, are drawn again).
+    std::vector<SurfacePoint> probes(std::size_t n, std::uint64_t seed) const;
+
+    /// Name shown for a surface: its object name, or "surface K".
+    std::string surface_name(int surface) const;
+
+    /// Paths traced so far by this tracer (all threads), for rate measurements.
+    std::uint64_t paths_traced() const { return m_paths.load(); }
+
+private:
+    struct Impl;
+    const Scene& m_scene;
+    double m_diagonal = 0.0;
+    std::unique_ptr<Impl> m_impl;
+    mutable std::atomic<std::uint64_t> m_paths{0};
+};
+
+}  // namespace bounce
