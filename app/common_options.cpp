@@ -85,19 +85,19 @@ void add_meshing_options(CLI::App* cmd, CommonOptions& o) {
 }
 
 void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
-    cmd->add_option("--max-area", o.meshing.max_area,
-                    "largest patch area (scene units^2); default: total area / 2000")
+    cmd->add_option("--max-area", o.meshing.max_area, "largest patch area (scene units^2); default: total area / 2000")
         ->check(kPositive);
-    cmd->add_option("--max-edge", o.meshing.max_edge, "longest patch edge (scene units)")
-        ->check(kPositive);
+    cmd->add_option("--max-edge", o.meshing.max_edge, "longest patch edge (scene units)")->check(kPositive);
     cmd->add_option("--patches", o.meshing.target_patches,
                     "about this many patches when neither --max-area nor --max-edge is given (2000)")
         ->check(CLI::Range(std::size_t(1), std::size_t(100000000)));
     cmd->add_option("--max-memory", o.max_memory_mb, "refuse work estimated above this many MB (16384)")
         ->check(kPositive);
-    cmd->add_flag("--strict", o.strict, "treat every warning about the input (materials, degenerate, non-planar or crossing faces) as an error");
-    cmd->add_flag("--no-subdivide", [&o](std::int64_t) { o.meshing.subdivide = false; },
-                  "one patch per input face");
+    cmd->add_flag(
+        "--strict", o.strict,
+        "treat every warning about the input (materials, degenerate, non-planar or crossing faces) as an error");
+    cmd->add_flag(
+        "--no-subdivide", [&o](std::int64_t) { o.meshing.subdivide = false; }, "one patch per input face");
     cmd->add_flag("-q,--quiet", o.quiet, "no progress line, no warnings");
     cmd->add_option("--threads", o.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--visibility", o.visibility, "visibility backend for shadow rays (default: embree)")
@@ -105,9 +105,9 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
 }
 
 void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
-    cmd->add_option("--rays", f.visibility_rays, "visibility rays per patch pair (raycast)")->check(CLI::Range(1, 4096));
-    cmd->add_option("--receiver-samples", f.receiver_samples,
-                    "points per side of each receiver (raycast); 0: adaptive")
+    cmd->add_option("--rays", f.visibility_rays, "visibility rays per patch pair (raycast)")
+        ->check(CLI::Range(1, 4096));
+    cmd->add_option("--receiver-samples", f.receiver_samples, "points per side of each receiver (raycast); 0: adaptive")
         ->check(CLI::Range(0, 16));
     cmd->add_option("--hemicube-res", f.hemicube_resolution, "hemicube pixels per side (even)")
         ->check(CLI::Range(2, 4096));
@@ -117,12 +117,14 @@ void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
 
 void add_render_options(CLI::App* cmd, RenderOptions& r) {
     cmd->add_option("--camera", r.camera, "cornell, auto or x,y,z:tx,ty,tz (default: cornell for the box)");
-    cmd->add_option("--size", [&r](const CLI::results_t& v) {
-        return std::sscanf(v[0].c_str(), "%dx%d", &r.width, &r.height) == 2;
-    }, "picture size WxH (800x800)");
+    cmd->add_option(
+        "--size",
+        [&r](const CLI::results_t& v) { return std::sscanf(v[0].c_str(), "%dx%d", &r.width, &r.height) == 2; },
+        "picture size WxH (800x800)");
     cmd->add_option("--exposure", r.exposure, "exposure in EV (0: mean patch at mid grey)");
     cmd->add_flag("--smooth", r.smooth, "colours interpolated from the point data");
-    cmd->add_flag("--flat", [&r](std::int64_t) { r.smooth = false; }, "one colour per patch (default)");
+    cmd->add_flag(
+        "--flat", [&r](std::int64_t) { r.smooth = false; }, "one colour per patch (default)");
     cmd->add_flag("--luminance", r.luminance, "pseudo-colour by luminance with a colour bar");
     cmd->add_flag("--edges", r.edges, "draw the patch edges");
 }

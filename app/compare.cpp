@@ -52,8 +52,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     std::filesystem::create_directories(c.out, ec);
     if (!std::filesystem::is_directory(c.out)) throw InputError(c.out + ": cannot create the output directory");
     CommonOptions roots = o;
-    if (default_meshing(o))
-        roots.meshing.target_patches = 30;  // the Cornell box: 60 patches
+    if (default_meshing(o)) roots.meshing.target_patches = 30;  // the Cornell box: 60 patches
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
     const auto& P = mesh.patches();
@@ -106,7 +105,8 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         csv << r.method << "," << r.setting << "," << r.elements << "," << r.links << "," << r.seconds << "," << r.rms
             << "\n";
     const std::filesystem::path dir = c.out;
-    write_text_file(dir / "meshes.csv", [&](std::ostream& out) { out << csv.str(); }, "mesh comparison");
+    write_text_file(
+        dir / "meshes.csv", [&](std::ostream& out) { out << csv.str(); }, "mesh comparison");
     write_mesh_charts(dir);
     if (!o.quiet) {
         std::printf("%zu patches; RMS error of the reflected radiosity against %zu uniform elements (%d rays a pair)\n",
@@ -141,9 +141,9 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
     for (const auto& m : c.methods) {
         estimators.push_back(make_form_factor_estimator(m, P, visibility.get(), c.ff));
         ProgressLine progress(!o.quiet);
-        matrices.push_back(FormFactorMatrix::build(*estimators.back(), P.size(), c.max_matrix_mb << 20,
-                                                   [&](std::size_t d, std::size_t t) { progress.rows(d, t); },
-                                                   &g_interrupted));
+        matrices.push_back(FormFactorMatrix::build(
+            *estimators.back(), P.size(), c.max_matrix_mb << 20,
+            [&](std::size_t d, std::size_t t) { progress.rows(d, t); }, &g_interrupted));
         progress.finish();
         if (!o.quiet) std::cout << m << " form factors: " << matrices.back().seconds() << " s\n";
     }
@@ -212,20 +212,23 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
     cmp_cmd->add_option("--solvers", cmp->solvers, "solvers to run (default: all)")
         ->delimiter(',')
         ->check(CLI::IsMember(solver_names()));
-    cmp_cmd->add_option("--form-factors", cmp->methods, "form-factor methods (default: raycast,hemicube); the first gives the reference")
+    cmp_cmd
+        ->add_option("--form-factors", cmp->methods,
+                     "form-factor methods (default: raycast,hemicube); the first gives the reference")
         ->delimiter(',')
         ->check(CLI::IsMember(form_factor_methods()));
     cmp_cmd->add_option("--out", cmp->out, "output folder (default: compare)");
-    cmp_cmd->add_option("--tolerance", cmp->options.tolerance, "stopping tolerance of each solver")
-        ->check(kPositive);
+    cmp_cmd->add_option("--tolerance", cmp->options.tolerance, "stopping tolerance of each solver")->check(kPositive);
     cmp_cmd->add_option("--max-iterations", cmp->options.max_iterations, "shots or sweeps limit");
-    cmp_cmd->add_option("--sor", cmp->options.sor, "over-relaxation for jacobi and gauss-seidel")->check(CLI::Range(0.0, 2.0));
+    cmp_cmd->add_option("--sor", cmp->options.sor, "over-relaxation for jacobi and gauss-seidel")
+        ->check(CLI::Range(0.0, 2.0));
     cmp_cmd->add_option("--max-matrix-mb", cmp->max_matrix_mb, "refuse a matrix larger than this (MB)");
     cmp_cmd->add_flag("--meshes", cmp->meshes,
                       "compare uniform, adaptive and hierarchical meshes over the same patches (60 for the box) "
                       "against one fine uniform reference, instead of solvers");
-    cmp_cmd->add_option("--reference-level", cmp->reference_level,
-                        "--meshes: the reference cuts every patch into 4^level elements (5)")
+    cmp_cmd
+        ->add_option("--reference-level", cmp->reference_level,
+                     "--meshes: the reference cuts every patch into 4^level elements (5)")
         ->check(CLI::Range(1, 7));
     add_form_factor_options(cmp_cmd, cmp->ff);
     return {cmp_cmd, [&common, cmp] { return run_compare(common, *cmp); }};

@@ -41,20 +41,23 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
     const auto visibility = make_visibility(o.visibility, P);
     const auto ff = make_form_factor_estimator(c.method, P, visibility.get(), c.ff);
     ProgressLine progress(!o.quiet);
-    const auto F = FormFactorMatrix::build(*ff, n, c.max_matrix_mb << 20,
-                                           [&](std::size_t d, std::size_t t) { progress.rows(d, t); }, &g_interrupted);
+    const auto F = FormFactorMatrix::build(
+        *ff, n, c.max_matrix_mb << 20, [&](std::size_t d, std::size_t t) { progress.rows(d, t); }, &g_interrupted);
     progress.finish();
     std::vector<double> sums(n, 0.0);
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = 0; j < n; ++j) sums[i] += F(i, j);
     if (!c.output.empty()) {
-        write_text_file(c.output, [&](std::ostream& csv) {
-            csv << "i,j,F_ij,row_sum_i\n";
-            csv.precision(9);
-            for (std::size_t i = 0; i < n; ++i)
-                for (std::size_t j = 0; j < n; ++j)
-                    if (F(i, j) != 0.0f) csv << i << ',' << j << ',' << F(i, j) << ',' << sums[i] << '\n';
-        }, "form-factor CSV");
+        write_text_file(
+            c.output,
+            [&](std::ostream& csv) {
+                csv << "i,j,F_ij,row_sum_i\n";
+                csv.precision(9);
+                for (std::size_t i = 0; i < n; ++i)
+                    for (std::size_t j = 0; j < n; ++j)
+                        if (F(i, j) != 0.0f) csv << i << ',' << j << ',' << F(i, j) << ',' << sums[i] << '\n';
+            },
+            "form-factor CSV");
     }
     if (!o.quiet || c.check) {
         std::cout << "patches " << n << ", method " << c.method << ", " << F.seconds() << " s ("

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
+#include <CLI/CLI.hpp>
 
 #include "app/command.h"
 #include "app/signals.h"
@@ -27,12 +27,8 @@ int main(int argc, char** argv) {
     CommonOptions common;
     // In the order --help lists them.
     const std::vector<Command> commands = {
-        add_solve_command(app, common),
-        add_form_factors_command(app, common),
-        add_compare_command(app, common),
-        add_render_command(app, common),
-        add_view_command(app, common),
-        add_info_command(app, common),
+        add_solve_command(app, common),  add_form_factors_command(app, common), add_compare_command(app, common),
+        add_render_command(app, common), add_view_command(app, common),         add_info_command(app, common),
     };
 
     try {
@@ -44,8 +40,7 @@ int main(int argc, char** argv) {
     }
     install_signal_handlers();
     std::optional<tbb::global_control> threads;
-    if (common.threads > 0)
-        threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(common.threads));
+    if (common.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(common.threads));
     try {
         for (const Command& c : commands)
             if (*c.cli) return c.run();

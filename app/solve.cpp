@@ -112,7 +112,8 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     if (!s.png.empty()) render_solution(*elements, res, {o.scene, settings.str()}, s.png, s.render);
     if (!o.quiet)
         std::cout << summary.str() << "wrote " << out.string() << (s.png.empty() ? "" : " and " + s.png) << "\n";
-    if (!res.converged && !o.quiet) std::cerr << "bounce: not converged (" << res.status << "); the solution was written\n";
+    if (!res.converged && !o.quiet)
+        std::cerr << "bounce: not converged (" << res.status << "); the solution was written\n";
     return res.converged ? 0 : 3;
 }
 
@@ -134,18 +135,20 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     std::optional<PatchMesh> shooters;  // with --elements: the patches that shoot to the elements
     if (elements) shooters.emplace(scene, o.meshing);
     check_form_factor_memory(o, s.method, s.ff);
-    if (s.solver != "shooting") check_memory(o, "the form-factor matrix (" + std::to_string(P.size()) + " patches)", n * n * 4);
+    if (s.solver != "shooting")
+        check_memory(o, "the form-factor matrix (" + std::to_string(P.size()) + " patches)", n * n * 4);
     if (s.solver == "direct") check_memory(o, "the direct solver (matrix and LU factors)", n * n * 12);
     const auto visibility = make_visibility(o.visibility, P);
-    const auto ff = elements ? std::make_unique<PatchToElementFormFactor>(shooters->patches(), P,
-                                                                          s.method == "analytic" ? nullptr : visibility.get(), s.ff)
+    const auto ff = elements ? std::make_unique<PatchToElementFormFactor>(
+                                   shooters->patches(), P, s.method == "analytic" ? nullptr : visibility.get(), s.ff)
                              : make_form_factor_estimator(s.method, P, visibility.get(), s.ff);
     const bool shooting = s.solver == "shooting";
     ProgressLine progress(!o.quiet, shooting ? "shot" : "sweep", shooting ? "unshot" : "residual");
     std::optional<FormFactorMatrix> matrix;
     if (s.solver != "shooting") {
-        matrix = FormFactorMatrix::build(*ff, P.size(), s.max_matrix_mb << 20,
-                                         [&](std::size_t d, std::size_t t) { progress.rows(d, t); }, &g_interrupted);
+        matrix = FormFactorMatrix::build(
+            *ff, P.size(), s.max_matrix_mb << 20, [&](std::size_t d, std::size_t t) { progress.rows(d, t); },
+            &g_interrupted);
         progress.finish();
     }
     if (matrix) {
@@ -166,8 +169,8 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         so.snapshot_every = s.series;
         so.snapshot = [&](std::size_t step, const std::vector<Rgb>& B) { series->add(step, B); };
     }
-    const auto solver = elements ? std::make_unique<ShootingSolver>(P, *ff, so, nullptr,
-                                                                    ElementHierarchy{&shooters->patches(), &mesh.parents()})
+    const auto solver = elements ? std::make_unique<ShootingSolver>(
+                                       P, *ff, so, nullptr, ElementHierarchy{&shooters->patches(), &mesh.parents()})
                                  : make_solver(s.solver, {P, ff.get(), matrix ? &*matrix : nullptr}, so);
     SolveResult res = solver->solve();
     progress.finish();
@@ -175,14 +178,15 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     if (matrix) res.seconds += matrix->seconds();
 
     std::ostringstream settings;
- settings << "patches=" << (elements ? shooters->size() : mesh.size()) << " elements=" << mesh.size() << " edge=" << mesh.edge_length() << " solver=" << s.solver
-             << " sor=" << s.options.sor << " method=" << s.method << " rays=" << s.ff.visibility_rays
+    settings << "patches=" << (elements ? shooters->size() : mesh.size()) << " elements=" << mesh.size()
+             << " edge=" << mesh.edge_length() << " solver=" << s.solver << " sor=" << s.options.sor
+             << " method=" << s.method << " rays=" << s.ff.visibility_rays
              << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
              << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance;
     write_vtu(out, mesh, res, {o.scene, settings.str()}, s.ascii);
     if (interrupted_exit_code()) {
-        std::cerr << "bounce: interrupted after " << res.steps << " steps; wrote the solution so far to " << out.string()
-                  << " (converged = 0)\n";
+        std::cerr << "bounce: interrupted after " << res.steps << " steps; wrote the solution so far to "
+                  << out.string() << " (converged = 0)\n";
         return interrupted_exit_code();
     }
     if (series) series->finish(res);
@@ -190,8 +194,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     if (!s.log_csv.empty()) write_log_csv(s.log_csv, {res}, {s.method}, {matrix ? matrix->seconds() : 0.0});
     if (!o.quiet) {
         std::cout << "patches " << (elements ? std::to_string(shooters->size()) + ", elements " : "") << mesh.size()
-                  << ", " << s.solver << " " << res.steps
-                  << (s.solver == "shooting" ? " shots" : " sweeps");
+                  << ", " << s.solver << " " << res.steps << (s.solver == "shooting" ? " shots" : " sweeps");
         if (s.solver == "shooting") std::cout << ", unshot fraction " << res.unshot_fraction;
         if (res.residual >= 0) std::cout << ", residual " << res.residual;
         std::cout << (res.converged ? "" : " (NOT converged: " + res.status + ")") << ", " << res.seconds << " s\n"
@@ -221,19 +224,23 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
     solve_cmd->add_flag("--adaptive", solve->adaptive,
                         "adaptive subdivision: patches (150 unless meshing is given) refined into elements where the "
                         "radiosity varies");
-    solve_cmd->add_option("--target-error", solve->adaptive_options.target_error,
-                          "adaptive: stop when the RMS error estimate is below this (relative; 0.05)")
+    solve_cmd
+        ->add_option("--target-error", solve->adaptive_options.target_error,
+                     "adaptive: stop when the RMS error estimate is below this (relative; 0.05)")
         ->check(kPositive);
     solve_cmd->add_option("--max-patches", solve->adaptive_options.max_elements, "adaptive: element budget (20000)")
         ->check(CLI::Range(std::size_t(1), std::size_t(10000000)));
-    solve_cmd->add_option("--link-epsilon", solve->hierarchical.link_epsilon,
-                          "hierarchical: link error bound, a share of what the link brings (0.1)")
+    solve_cmd
+        ->add_option("--link-epsilon", solve->hierarchical.link_epsilon,
+                     "hierarchical: link error bound, a share of what the link brings (0.1)")
         ->check(kPositive);
-    solve_cmd->add_option("--max-level", solve->hierarchical.max_level,
-                          "hierarchical: quadtree depth under each input face (4)")
+    solve_cmd
+        ->add_option("--max-level", solve->hierarchical.max_level,
+                     "hierarchical: quadtree depth under each input face (4)")
         ->check(CLI::Range(0, 12));
-    solve_cmd->add_option("--tolerance", solve->options.tolerance,
-                          "stop below this unshot fraction (shooting) or relative residual (others); 1e-3")
+    solve_cmd
+        ->add_option("--tolerance", solve->options.tolerance,
+                     "stop below this unshot fraction (shooting) or relative residual (others); 1e-3")
         ->check(kPositive);
     solve_cmd->add_option("--max-shots,--max-iterations", solve->options.max_iterations,
                           "stop after this many shots or sweeps (default 100 N shots, 10000 sweeps)");
@@ -243,18 +250,21 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->check(CLI::Range(0.0, 2.0));
     solve_cmd->add_option("--log", solve->log_csv, "write the convergence log (CSV)");
     solve_cmd->add_flag("--overshoot", solve->options.overshoot, "shooting: over-shoot by rho times the ambient term");
-    solve_cmd->add_option("--elements", solve->element_split,
-                          "shooting: cut every patch into KxK elements that receive (patches shoot to elements)")
+    solve_cmd
+        ->add_option("--elements", solve->element_split,
+                     "shooting: cut every patch into KxK elements that receive (patches shoot to elements)")
         ->check(CLI::Range(1, 64));
-    solve_cmd->add_option("--cache-mb", solve->options.cache_mb,
-                          "shooting: memory for cached form-factor rows (MB, default 1024); rows beyond it are recomputed");
+    solve_cmd->add_option(
+        "--cache-mb", solve->options.cache_mb,
+        "shooting: memory for cached form-factor rows (MB, default 1024); rows beyond it are recomputed");
     solve_cmd->add_option("--max-matrix-mb", solve->max_matrix_mb, "refuse a matrix larger than this (MB)");
     solve_cmd->add_option("--form-factors", solve->method, "raycast, hemicube, or analytic (no occlusion)")
         ->check(CLI::IsMember(form_factor_methods()));
     add_form_factor_options(solve_cmd, solve->ff);
     solve_cmd->add_flag("--ascii", solve->ascii, "write ASCII instead of compressed binary");
     solve_cmd->add_option("--png", solve->png, "render the result to this PNG after solving");
-    solve_cmd->add_option("--series", solve->series, "also write a .pvd time series: a snapshot every N shots or sweeps");
+    solve_cmd->add_option("--series", solve->series,
+                          "also write a .pvd time series: a snapshot every N shots or sweeps");
     add_render_options(solve_cmd, solve->render);
     return {solve_cmd, [&common, solve] { return run_solve(common, *solve); }};
 }

@@ -63,7 +63,8 @@ void HemicubeFormFactor::compute_row(std::size_t i, std::span<float> row) const 
         t = std::cos(angle) * t + std::sin(angle) * glm::cross(n, t);
     }
     const V b = glm::cross(n, t);
-    const std::array<CubeFace, 5> faces = {{{n, t, b, -1.0}, {t, b, n, 0.0}, {-t, b, n, 0.0}, {b, t, n, 0.0}, {-b, t, n, 0.0}}};
+    const std::array<CubeFace, 5> faces = {
+        {{n, t, b, -1.0}, {t, b, n, 0.0}, {-t, b, n, 0.0}, {b, t, n, 0.0}, {-b, t, n, 0.0}}};
     const V eye = s.centre + m_eps * n;
 
     thread_local std::vector<double> depth;
@@ -101,13 +102,17 @@ void HemicubeFormFactor::compute_row(std::size_t i, std::span<float> row) const 
             for (int k = 0; k < m; ++k) {
                 X[k] = clip[k].x / clip[k].z;
                 Y[k] = clip[k].y / clip[k].z;
-                x0 = std::min(x0, X[k]); x1 = std::max(x1, X[k]);
-                y0 = std::min(y0, Y[k]); y1 = std::max(y1, Y[k]);
+                x0 = std::min(x0, X[k]);
+                x1 = std::max(x1, X[k]);
+                y0 = std::min(y0, Y[k]);
+                y1 = std::max(y1, Y[k]);
             }
             if (x1 < -1 || x0 > 1 || y1 < face.ylo || y0 > 1) continue;
             // Vertices near the eye's plane project far out; clamp before converting to int.
-            x0 = std::max(x0, -2.0); x1 = std::min(x1, 2.0);
-            y0 = std::max(y0, -2.0); y1 = std::min(y1, 2.0);
+            x0 = std::max(x0, -2.0);
+            x1 = std::min(x1, 2.0);
+            y0 = std::max(y0, -2.0);
+            y1 = std::min(y1, 2.0);
             // Pixel range whose centres fall in the bounding box.
             const int ax0 = std::max(0, int(std::ceil((x0 + 1) / h - 0.5)));
             const int ax1 = std::min(r - 1, int(std::floor((x1 + 1) / h - 0.5)));

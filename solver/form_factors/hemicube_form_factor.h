@@ -26,7 +26,7 @@ private:
     const std::vector<Patch>& m_patches;
     FormFactorOptions m_options;
     std::vector<double> m_top_delta, m_side_delta;  // delta form factors per pixel
-    double m_eps = 0.0;                              // eye lift off the shooter's plane
+    double m_eps = 0.0;                             // eye lift off the shooter's plane
 };
 
 }  // namespace bounce

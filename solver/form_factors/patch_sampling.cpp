@@ -10,8 +10,7 @@ namespace bounce {
 
 glm::dvec3 patch_point(const Patch& p, double u, double v) {
     const auto& c = p.vertices;
-    if (p.vertex_count == 4)
-        return (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3];
+    if (p.vertex_count == 4) return (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3];
     const double su = std::sqrt(u);
     return (1 - su) * c[0] + su * (1 - v) * c[1] + su * v * c[2];
 }

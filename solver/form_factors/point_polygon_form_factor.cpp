@@ -24,7 +24,10 @@ double point_polygon_form_factor(const glm::dvec3& p, const glm::dvec3& n, std::
     std::size_t m = 0;
     bool all_above = true;
     for (std::size_t i = 0; i < k; ++i)
-        if (glm::dot(n, polygon[i] - p) < 0) { all_above = false; break; }
+        if (glm::dot(n, polygon[i] - p) < 0) {
+            all_above = false;
+            break;
+        }
     if (all_above) {
         for (std::size_t i = 0; i < k; ++i) out[m++] = polygon[i] - p;
     } else {

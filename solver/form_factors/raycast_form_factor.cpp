@@ -7,8 +7,8 @@
 #include <numeric>
 #include <stdexcept>
 
-#include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
 
 #include "solver/form_factors/hemicube_form_factor.h"
 #include "solver/form_factors/patch_sampling.h"
@@ -100,9 +100,8 @@ double RaycastFormFactor::directed(std::size_t i, std::size_t j) const {
     if (wholly_behind(s, r) || wholly_behind(r, s)) return 0.0;
     const double dist = glm::length(r.centre - s.centre);
     const double want = std::ceil(m_options.receiver_sampling * patch_size(r) / std::max(dist, 1e-300));
-    const int n = m_options.receiver_samples > 0
-                      ? m_options.receiver_samples
-                      : int(std::clamp(want, 1.0, double(m_options.max_receiver_samples)));
+    const int n = m_options.receiver_samples > 0 ? m_options.receiver_samples
+                                                 : int(std::clamp(want, 1.0, double(m_options.max_receiver_samples)));
     thread_local std::vector<AreaSample> samples;
     double fji = 0.0;
     bool straddles = false;
@@ -162,8 +161,8 @@ std::vector<Patch> joined(const std::vector<Patch>& a, const std::vector<Patch>&
 }  // namespace
 
 PatchToElementFormFactor::PatchToElementFormFactor(const std::vector<Patch>& patches,
-                                                   const std::vector<Patch>& elements,
-                                                   const Visibility* visibility, const FormFactorOptions& options)
+                                                   const std::vector<Patch>& elements, const Visibility* visibility,
+                                                   const FormFactorOptions& options)
     : m_all(joined(patches, elements)), m_first_element(patches.size()), m_inner(m_all, visibility, options) {}
 
 void PatchToElementFormFactor::compute_row(std::size_t i, std::span<float> row) const {

@@ -52,7 +52,8 @@ void reference_errors(const std::vector<Rgb>& B, const std::vector<Rgb>& referen
 
 double contraction_bound(const std::vector<Patch>& patches, const std::vector<double>& row_sums) {
     double worst = 0.0;
-    for (std::size_t i = 0; i < patches.size(); ++i) worst = std::max(worst, patches[i].reflectance.max() * row_sums[i]);
+    for (std::size_t i = 0; i < patches.size(); ++i)
+        worst = std::max(worst, patches[i].reflectance.max() * row_sums[i]);
     return worst;
 }
 

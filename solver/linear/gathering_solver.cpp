@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cmath>
 
-#include <tbb/parallel_for.h>
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include "solver/linear/convergence.h"
@@ -116,12 +116,18 @@ SolveResult GatheringSolver::solve() {
                 double an[3] = {0, 0, 0}, ao[3] = {0, 0, 0}, rest[3] = {0, 0, 0};
                 for (std::size_t j = 0; j < i; ++j) {
                     const double f = row[j];
-                    an[0] += f * B[j].r; an[1] += f * B[j].g; an[2] += f * B[j].b;
-                    ao[0] += f * old[j].r; ao[1] += f * old[j].g; ao[2] += f * old[j].b;
+                    an[0] += f * B[j].r;
+                    an[1] += f * B[j].g;
+                    an[2] += f * B[j].b;
+                    ao[0] += f * old[j].r;
+                    ao[1] += f * old[j].g;
+                    ao[2] += f * old[j].b;
                 }
                 for (std::size_t j = i; j < n; ++j) {
                     const double f = row[j];
-                    rest[0] += f * B[j].r; rest[1] += f * B[j].g; rest[2] += f * B[j].b;
+                    rest[0] += f * B[j].r;
+                    rest[1] += f * B[j].g;
+                    rest[2] += f * B[j].b;
                 }
                 const Rgb& rho = P[i].reflectance;
                 const Rgb r_old = P[i].emission + rho * Rgb(ao[0] + rest[0], ao[1] + rest[1], ao[2] + rest[2]) - old[i];
@@ -172,8 +178,9 @@ SolveResult DirectSolver::solve() {
     const std::size_t n = P.size();
     const std::size_t bytes = n * n * sizeof(double);
     if (bytes > (m_options.max_matrix_mb << 20))
-        throw ResourceLimitError("direct solver: " + std::to_string(n) + " patches need " + std::to_string(bytes >> 20) +
-                                 " MB, over the limit of " + std::to_string(m_options.max_matrix_mb) + " MB");
+        throw ResourceLimitError("direct solver: " + std::to_string(n) + " patches need " +
+                                 std::to_string(bytes >> 20) + " MB, over the limit of " +
+                                 std::to_string(m_options.max_matrix_mb) + " MB");
     SolveResult res;
     res.solver = name();
     res.radiosity.assign(n, Rgb());
@@ -196,7 +203,10 @@ SolveResult DirectSolver::solve() {
             std::size_t piv = k;
             double best = std::abs(A[k * n + k]);
             for (std::size_t i = k + 1; i < n; ++i)
-                if (std::abs(A[i * n + k]) > best) { best = std::abs(A[i * n + k]); piv = i; }
+                if (std::abs(A[i * n + k]) > best) {
+                    best = std::abs(A[i * n + k]);
+                    piv = i;
+                }
             if (!(best > 1e-12))
                 throw SingularSystemError("the radiosity system is singular (pivot " + std::to_string(best) +
                                           " at patch " + std::to_string(k) +
@@ -230,8 +240,9 @@ SolveResult DirectSolver::solve() {
             // Radiosity cannot be negative: a negative solution means rho F has spectral radius
             // above 1 (reflectance 1 in a closed scene with rows summing a little above 1).
             if (!(x[i] >= -1e-9 * top))
-                throw SingularSystemError("the radiosity system has no physical solution (negative radiosity at patch " +
-                                          std::to_string(i) + "): reflectance at or near 1 in a closed scene");
+                throw SingularSystemError(
+                    "the radiosity system has no physical solution (negative radiosity at patch " + std::to_string(i) +
+                    "): reflectance at or near 1 in a closed scene");
             res.radiosity[i][c] = x[i];
         }
     }

@@ -14,8 +14,7 @@
 namespace bounce {
 
 ShootingSolver::ShootingSolver(const std::vector<Patch>& patches, const FormFactorEstimator& form_factors,
-                               const SolverOptions& options, const FormFactorMatrix* matrix,
-                               ElementHierarchy hierarchy)
+                               const SolverOptions& options, const FormFactorMatrix* matrix, ElementHierarchy hierarchy)
     : m_patches(patches), m_ff(form_factors), m_options(options), m_matrix(matrix), m_hierarchy(hierarchy) {
     if (bool(hierarchy.shooters) != bool(hierarchy.parents))
         throw std::invalid_argument("element hierarchy: give both shooters and parents");
@@ -140,7 +139,10 @@ SolveResult ShootingSolver::solve() {
         for (std::size_t s = 0; s < ns; ++s) {
             const Rgb& g = gathered[s];
             const double p = std::abs(g.r) + std::abs(g.g) + std::abs(g.b);
-            if (p > best) { best = p; shooter = s; }
+            if (p > best) {
+                best = p;
+                shooter = s;
+            }
         }
         res.unshot_fraction = unshot_total / emitted;
         if (res.steps >= next_log) log();
@@ -206,9 +208,9 @@ SolveResult ShootingSolver::solve() {
             const Patch& pj = m_patches[j];
             const double fji = row ? double(row[j]) * ai / pj.area : double((*m_matrix)(j, shooter));
             if (fji == 0.0) continue;
-            const Rgb dh = shot * fji;                      // irradiance increment
-            const Rgb arriving = dh * pj.area;              // power arriving at j
-            const Rgb reflected = pj.reflectance * dh;      // radiosity increment
+            const Rgb dh = shot * fji;                  // irradiance increment
+            const Rgb arriving = dh * pj.area;          // power arriving at j
+            const Rgb reflected = pj.reflectance * dh;  // radiosity increment
             res.irradiance[j] += dh;
             res.radiosity[j] += reflected;
             res.unshot[j] += reflected;

@@ -8,7 +8,8 @@ namespace bounce {
 
 std::vector<std::string> solver_names() { return {"shooting", "gauss-seidel", "jacobi", "direct"}; }
 
-std::unique_ptr<Solver> make_solver(const std::string& name, const RadiositySystem& system, const SolverOptions& options) {
+std::unique_ptr<Solver> make_solver(const std::string& name, const RadiositySystem& system,
+                                    const SolverOptions& options) {
     const bool gathering = name == "gauss-seidel" || name == "jacobi" || name == "direct";
     if (gathering && !system.matrix) throw std::invalid_argument("solver '" + name + "' needs the form-factor matrix");
     if (name == "shooting") {

@@ -24,8 +24,10 @@ namespace {
 class TwoLevelSystem {
 public:
     TwoLevelSystem(const std::vector<Patch>& patches, const Visibility& visibility, const AdaptiveOptions& o)
-        : m_tree(patches), m_options(o),
-          m_ff(m_tree.geometry(), &visibility, o.form_factors), m_start(std::chrono::steady_clock::now()) {
+        : m_tree(patches),
+          m_options(o),
+          m_ff(m_tree.geometry(), &visibility, o.form_factors),
+          m_start(std::chrono::steady_clock::now()) {
         if (patches.empty()) throw std::invalid_argument("adaptive subdivision: no patches");
     }
 
@@ -73,7 +75,8 @@ public:
                 const glm::dvec2 uv(std::get<1>(key), std::get<2>(key));
                 const glm::dvec3 x = m_tree.point(std::get<0>(key), uv + 1e-4 * (centre - uv));
                 std::vector<float> row(np);
-                const std::uint64_t stream = std::hash<double>()(std::get<1>(key)) * 31 + std::hash<double>()(std::get<2>(key)) +
+                const std::uint64_t stream = std::hash<double>()(std::get<1>(key)) * 31 +
+                                             std::hash<double>()(std::get<2>(key)) +
                                              (std::uint64_t(std::get<0>(key)) << 40);
                 for (std::size_t q = 0; q < np; ++q)
                     row[q] = q == std::get<0>(key) ? 0.0f : float(m_ff.point_factor(x, root.normal, q, stream));
@@ -159,9 +162,7 @@ public:
         if (m_options.progress) m_options.progress(out.rounds.size(), out.rounds.back());
     }
 
-    double seconds() const {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
-    }
+    double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count(); }
 
 private:
     using CornerKey = std::tuple<std::uint32_t, double, double>;
@@ -203,7 +204,8 @@ AdaptiveSolution solve_adaptive(const std::vector<Patch>& patches, const Visibil
             if (c > 0 && system.tree().node(s.leaves[i]).level < options.max_level) order.push_back(i);
         }
         auto contribution = [&](std::size_t i) { return G[s.leaves[i]].area * s.estimate[i] * s.estimate[i]; };
-        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return contribution(a) > contribution(b); });
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::size_t a, std::size_t b) { return contribution(a) > contribution(b); });
         std::size_t count = s.leaves.size();
         std::vector<std::uint32_t> to_split;
         double covered = 0.0;

@@ -15,11 +15,11 @@ namespace bounce {
 class Visibility;
 
 struct AdaptiveOptions {
-    double target_error = 0.05;       // stop when the area-weighted RMS of the estimates is below this
-    std::size_t max_elements = 20000; // element budget (the CLI's --max-patches)
-    int max_rounds = 16;              // refine-and-solve rounds at most
-    int max_level = 10;               // no element smaller than its patch / 4^max_level
-    double tolerance = 1e-6;          // relative residual of each round's patch-level solve
+    double target_error = 0.05;        // stop when the area-weighted RMS of the estimates is below this
+    std::size_t max_elements = 20000;  // element budget (the CLI's --max-patches)
+    int max_rounds = 16;               // refine-and-solve rounds at most
+    int max_level = 10;                // no element smaller than its patch / 4^max_level
+    double tolerance = 1e-6;           // relative residual of each round's patch-level solve
     FormFactorOptions form_factors;
     const std::atomic<bool>* cancel = nullptr;
     std::function<void(std::size_t round, const struct AdaptiveRound&)> progress;  // after every round
@@ -58,8 +58,8 @@ AdaptiveSolution solve_adaptive(const std::vector<Patch>& patches, const Visibil
 
 /// Uniform refinement to `level` (every patch cut into 4^level elements) with the same
 /// machinery: the baseline adaptive subdivision is measured against.
-AdaptiveSolution solve_uniform_elements(const std::vector<Patch>& patches, const Visibility& visibility,
-                                        int level, const AdaptiveOptions& options);
+AdaptiveSolution solve_uniform_elements(const std::vector<Patch>& patches, const Visibility& visibility, int level,
+                                        const AdaptiveOptions& options);
 
 /// Area-weighted RMS difference over elements and channels, relative to the RMS of the
 /// reference's reflected radiosity (B - E: the light's own E would swamp the scale), between a

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
 
 #include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/form_factors/raycast_form_factor.h"
@@ -171,7 +171,8 @@ public:
         const Spread ab = point_factor_spread(G[a], G[b]), ba = point_factor_spread(G[b], G[a]);
         const double lb = m_b[b].luminance(), la = m_b[a].luminance();
         const double eps = m_options.link_epsilon, floor = m_options.link_floor * m_scale;
-        const bool fine = ab.spread * lb <= eps * (ab.mean * lb + floor) && ba.spread * la <= eps * (ba.mean * la + floor);
+        const bool fine =
+            ab.spread * lb <= eps * (ab.mean * lb + floor) && ba.spread * la <= eps * (ba.mean * la + floor);
         const bool split_a = splittable(a), split_b = splittable(b);
         if (fine || (!split_a && !split_b)) {
             links.push_back({a, b});
@@ -213,7 +214,8 @@ private:
 HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const Visibility& visibility,
                                         const HierarchicalOptions& options) {
     if (patches.empty()) throw std::invalid_argument("hierarchical radiosity: no patches");
-    if (!(options.link_epsilon > 0)) throw std::invalid_argument("hierarchical radiosity: the link epsilon must be > 0");
+    if (!(options.link_epsilon > 0))
+        throw std::invalid_argument("hierarchical radiosity: the link epsilon must be > 0");
     if (options.refine_rounds < 1) throw std::invalid_argument("hierarchical radiosity: at least one refinement round");
     const auto start = std::chrono::steady_clock::now();
     auto since_start = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };

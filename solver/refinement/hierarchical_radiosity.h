@@ -14,12 +14,12 @@ namespace bounce {
 class Visibility;
 
 struct HierarchicalOptions {
-    double link_epsilon = 0.1;   // link when the error bound is below this share of what the link brings
-    double link_floor = 1e-3;    // ... plus this share of the scene's mean radiosity (faint links stay coarse)
-    int refine_rounds = 3;       // refine links with the last solution's B, then solve; this many times
-    double min_area = 0.0;       // never split an element smaller than this (0: the patch area / 4^max_level)
-    int max_level = 4;           // quadtree depth under each patch
-    double tolerance = 1e-6;     // stop when no element's radiosity changes by more than this, relatively
+    double link_epsilon = 0.1;  // link when the error bound is below this share of what the link brings
+    double link_floor = 1e-3;   // ... plus this share of the scene's mean radiosity (faint links stay coarse)
+    int refine_rounds = 3;      // refine links with the last solution's B, then solve; this many times
+    double min_area = 0.0;      // never split an element smaller than this (0: the patch area / 4^max_level)
+    int max_level = 4;          // quadtree depth under each patch
+    double tolerance = 1e-6;    // stop when no element's radiosity changes by more than this, relatively
     std::size_t max_iterations = 1000;
     FormFactorOptions form_factors;
     const std::atomic<bool>* cancel = nullptr;
@@ -42,9 +42,9 @@ struct HierarchicalSolution {
 /// may be split, they are linked and the link's form factor is computed with
 /// visibility (RaycastFormFactor, both directions from one integral); otherwise the larger of
 /// the two is split into its quadtree children. The first refinement uses emission plus an
-/// ambient estimate for B, later rounds the last solution's B. The solution iterates gather (every element collects F B over its links) and
-/// push-pull (irradiance pushed down to the leaves, radiosity pulled up as area-weighted
-/// means) until it settles. The link count grows like N, not N^2.
+/// ambient estimate for B, later rounds the last solution's B. The solution iterates gather (every element collects F B
+/// over its links) and push-pull (irradiance pushed down to the leaves, radiosity pulled up as area-weighted means)
+/// until it settles. The link count grows like N, not N^2.
 HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const Visibility& visibility,
                                         const HierarchicalOptions& options);
 

@@ -27,8 +27,9 @@ public:
 
         // "verbose=0": Embree would otherwise print to stdout, which may be a pipe we own.
         m_device = rtcNewDevice("verbose=0");
-        if (!m_device) throw std::runtime_error("embree: cannot create a device (error " +
-                                                std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+        if (!m_device)
+            throw std::runtime_error("embree: cannot create a device (error " +
+                                     std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
         m_scene = rtcNewScene(m_device);
         // ROBUST: watertight traversal, so a ray through an edge shared by two triangles hits
         // one of them instead of slipping through the crack.
@@ -40,9 +41,10 @@ public:
             for (const auto& p : patches) vertex_count += std::size_t(p.vertex_count);
             auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
                                                                   RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertex_count));
-            auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
-                                                                     RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangles));
-            if (!v || !t) throw std::runtime_error("embree: out of memory for " + std::to_string(triangles) + " triangles");
+            auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+                geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangles));
+            if (!v || !t)
+                throw std::runtime_error("embree: out of memory for " + std::to_string(triangles) + " triangles");
             unsigned base = 0;
             for (const auto& p : patches) {
                 for (int k = 0; k < p.vertex_count; ++k) {
