@@ -4,8 +4,8 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_scene.h"
-#include "solver/form_factor_estimator.h"
-#include "solver/visibility.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/visibility/visibility.h"
 
 using namespace bounce;
 

@@ -7,10 +7,10 @@
 #include <tbb/global_control.h>
 
 #include "bench/bench_scene.h"
-#include "solver/form_factor_estimator.h"
-#include "solver/form_factor_matrix.h"
-#include "solver/shooting_solver.h"
-#include "solver/visibility.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/form_factors/form_factor_matrix.h"
+#include "solver/linear/shooting_solver.h"
+#include "solver/visibility/visibility.h"
 
 using namespace bounce;
 

@@ -7,8 +7,8 @@
 #include <random>
 
 #include "bench/bench_scene.h"
-#include "solver/patch_sampling.h"
-#include "solver/visibility.h"
+#include "solver/form_factors/patch_sampling.h"
+#include "solver/visibility/visibility.h"
 
 using namespace bounce;
 

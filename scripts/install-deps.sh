@@ -6,7 +6,7 @@ PKGS=(build-essential cmake pkg-config
       libtbb-dev libembree-dev nlohmann-json3-dev libcli11-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       python3-vtk9 python3-meshio python3-matplotlib xvfb xauth
-      clang libclang-rt-14-dev)
+      clang libclang-rt-14-dev clang-format)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

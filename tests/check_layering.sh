@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fails when a folder includes from a folder further along the data flow
-# (mesh -> solver -> viewer -> app), or when solver/ or mesh/ mention VTK.
+# (mesh -> solver -> viewer -> app), when a solver room includes from a room further along
+# (visibility -> form_factors -> linear -> refinement), or when solver/ or mesh/ mention VTK.
 set -u
 root="$1"
 bad=0
@@ -12,5 +13,19 @@ check() {  # folder, forbidden include pattern
 check mesh   'solver/|viewer/|app/|vtk'
 check solver 'viewer/|app/|vtk'
 check viewer 'app/'
+
+# The solver's rooms, lowest first; a new room goes into this list at its place in the flow.
+rooms=(visibility form_factors linear refinement reference)
+for ((i = 0; i < ${#rooms[@]}; i++)); do
+  higher=("${rooms[@]:i+1}")
+  ((${#higher[@]})) || continue
+  pattern="solver/($(IFS='|'; echo "${higher[*]}"))/"
+  check "solver/${rooms[i]}" "$pattern"
+done
+# Every solver source sits in a room, never loose in solver/ itself.
+loose=$(find "$root/solver" -maxdepth 1 -name '*.h' -o -maxdepth 1 -name '*.cpp')
+if [ -n "$loose" ]; then
+  echo "$loose"; echo "layering: solver/ sources belong in a room (solver/<room>/)"; bad=1
+fi
 [ $bad -eq 0 ] && echo "layering ok"
 exit $bad

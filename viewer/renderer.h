@@ -5,7 +5,7 @@
 #include <string>
 
 #include "mesh/patch_mesh.h"
-#include "solver/solve_result.h"
+#include "solver/linear/solve_result.h"
 #include "viewer/vtu_writer.h"
 
 namespace bounce {

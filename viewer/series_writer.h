@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "mesh/patch_mesh.h"
-#include "solver/solve_result.h"
+#include "solver/linear/solve_result.h"
 #include "viewer/vtu_writer.h"
 
 namespace bounce {

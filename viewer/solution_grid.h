@@ -11,7 +11,7 @@
 #include <vtkUnstructuredGrid.h>
 
 #include "mesh/patch_mesh.h"
-#include "solver/solve_result.h"
+#include "solver/linear/solve_result.h"
 #include "viewer/vtu_writer.h"
 
 namespace bounce {

@@ -5,9 +5,9 @@
 
 #include "mesh/cornell_box.h"
 #include "mesh/patch_mesh.h"
-#include "solver/form_factor_estimator.h"
-#include "solver/shooting_solver.h"
-#include "solver/visibility.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/linear/shooting_solver.h"
+#include "solver/visibility/visibility.h"
 #include "viewer/vtu_writer.h"
 
 int main() {

@@ -14,10 +14,10 @@
 
 #include "mesh/patch_mesh.h"
 #include "mesh/validation_scenes.h"
-#include "solver/form_factor_estimator.h"
-#include "solver/reference_form_factors.h"
-#include "solver/surface_form_factor.h"
-#include "solver/visibility.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/form_factors/reference_form_factors.h"
+#include "solver/form_factors/surface_form_factor.h"
+#include "solver/visibility/visibility.h"
 
 using namespace bounce;
 

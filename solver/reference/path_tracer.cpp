@@ -10,8 +10,8 @@
 #include <stdexcept>
 
 #include <embree3/rtcore.h>
-#include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
 
 #include "mesh/polygon.h"
 
@@ -19,9 +19,12 @@ namespace bounce {
 
 std::string to_string(EstimateStatus s) {
     switch (s) {
-        case EstimateStatus::converged: return "converged";
-        case EstimateStatus::budget: return "budget";
-        case EstimateStatus::interrupted: return "interrupted";
+        case EstimateStatus::converged:
+            return "converged";
+        case EstimateStatus::budget:
+            return "budget";
+        case EstimateStatus::interrupted:
+            return "interrupted";
     }
     return "?";
 }
@@ -124,10 +127,10 @@ struct PathTracer::Impl {
     RTCDevice device = nullptr;
     RTCScene rtc_scene = nullptr;
     glm::dvec3 centre{0.0};
-    double epsilon = 0.0;                // ray origin offset along the normal
+    double epsilon = 0.0;  // ray origin offset along the normal
     std::vector<SurfaceData> surfaces;
-    std::vector<int> triangle_surface;   // Embree primitive -> surface
-    std::vector<int> emitters;           // surfaces with emission
+    std::vector<int> triangle_surface;  // Embree primitive -> surface
+    std::vector<int> emitters;          // surfaces with emission
 
     ~Impl() {
         if (rtc_scene) rtcReleaseScene(rtc_scene);
@@ -183,7 +186,8 @@ struct PathTracer::Impl {
     glm::dvec3 sample_surface(const Scene& scene, int s, double u1, double u2) const {
         const SurfaceData& sd = surfaces[std::size_t(s)];
         const double a = u1 * sd.area;
-        std::size_t k = std::size_t(std::upper_bound(sd.cumulative.begin(), sd.cumulative.end(), a) - sd.cumulative.begin());
+        std::size_t k =
+            std::size_t(std::upper_bound(sd.cumulative.begin(), sd.cumulative.end(), a) - sd.cumulative.begin());
         k = std::min(k, sd.triangles.size() - 1);
         const double lo = k ? sd.cumulative[k - 1] : 0.0, width = sd.cumulative[k] - lo;
         // Reuse u1 within the chosen triangle, so stratification carries through.
@@ -192,7 +196,8 @@ struct PathTracer::Impl {
         const auto& tri = sd.triangles[k];
         const auto& poly = scene.surfaces[std::size_t(s)].vertices;
         const double b0 = 1 - su, b1 = u2 * su;
-        return b0 * poly[std::size_t(tri[0])] + b1 * poly[std::size_t(tri[1])] + (1 - b0 - b1) * poly[std::size_t(tri[2])];
+        return b0 * poly[std::size_t(tri[0])] + b1 * poly[std::size_t(tri[1])] +
+               (1 - b0 - b1) * poly[std::size_t(tri[2])];
     }
 
     /// Next-event estimate of sum_e E_e * F(dA_x -> e) * V at x: one area sample per emitter,
@@ -388,17 +393,17 @@ RadiosityEstimate PathTracer::estimate(const SurfacePoint& x, const ReferenceOpt
                     dir = cosine_direction(normal, u1, u2);
                 }
                 const auto hit = im.trace(pos + im.epsilon * normal, dir, 0.0, std::numeric_limits<float>::infinity());
-                if (hit.surface < 0) break;                     // escapes through an opening
+                if (hit.surface < 0) break;  // escapes through an opening
                 const auto& sh = im.surfaces[std::size_t(hit.surface)];
                 const double cos_y = -glm::dot(sh.normal, dir);
-                if (cos_y <= 0) break;                          // a back face: black, one-sided
+                if (cos_y <= 0) break;  // a back face: black, one-sided
                 if (sh.emission.max() > 0) {
                     // The cosine-sampled half of the multiple importance sampling of emitters.
                     const double p_cos = glm::dot(normal, dir) / kPi;
                     const double p_light = hit.t * hit.t / (cos_y * sh.area);
                     reflected += throughput * sh.emission * (p_cos / (p_cos + p_light));
                 }
-                const double survive = sh.reflectance.max();    // Russian roulette on rho
+                const double survive = sh.reflectance.max();  // Russian roulette on rho
                 if (!(survive > 0) || rng.uniform() >= survive) break;
                 throughput = throughput * sh.reflectance * (1.0 / survive);
                 glm::dvec3 y = pos + im.epsilon * normal + hit.t * dir;
@@ -510,7 +515,8 @@ std::vector<SurfacePoint> PathTracer::probes(std::size_t n, std::uint64_t seed) 
         return true;
     };
     auto try_point = [&](double area_position) -> std::optional<SurfacePoint> {
-        std::size_t c = std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), area_position) - cumulative.begin());
+        std::size_t c =
+            std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), area_position) - cumulative.begin());
         c = std::min(c, candidates.size() - 1);
         const int s = candidates[c];
         const glm::dvec3 x = im.sample_surface(m_scene, s, rng.uniform(), rng.uniform());
@@ -521,7 +527,8 @@ std::vector<SurfacePoint> PathTracer::probes(std::size_t n, std::uint64_t seed) 
     for (std::size_t k = 0; k < n; ++k) {
         std::optional<SurfacePoint> p;
         // First within the k-th stratum of area, then (a stratum wholly enclosed) anywhere.
-        for (int attempt = 0; attempt < 200 && !p; ++attempt) p = try_point((double(k) + rng.uniform()) / double(n) * total);
+        for (int attempt = 0; attempt < 200 && !p; ++attempt)
+            p = try_point((double(k) + rng.uniform()) / double(n) * total);
         for (int attempt = 0; attempt < 2000 && !p; ++attempt) p = try_point(rng.uniform() * total);
         if (p) out.push_back(*p);
     }

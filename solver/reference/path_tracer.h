@@ -33,10 +33,10 @@ struct SurfacePoint {
 
 /// How long to sample each point.
 struct ReferenceOptions {
-    double target_error = 0.005;           // stop when se(luminance) <= target * luminance
-    std::uint64_t max_paths = 1u << 20;    // budget per point; a point that reaches it is flagged
-    std::uint64_t min_paths = 1024;        // before the first stopping test (16 batches)
-    std::uint64_t seed = 1;                // same seed -> same estimates, on any thread count
+    double target_error = 0.005;         // stop when se(luminance) <= target * luminance
+    std::uint64_t max_paths = 1u << 20;  // budget per point; a point that reaches it is flagged
+    std::uint64_t min_paths = 1024;      // before the first stopping test (16 batches)
+    std::uint64_t seed = 1;              // same seed -> same estimates, on any thread count
 };
 
 enum class EstimateStatus {

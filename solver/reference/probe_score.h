@@ -20,8 +20,8 @@ struct ProbeScore {
     double rms_patch = 0.0, max_patch = 0.0;
     double rms_smooth = 0.0, max_smooth = 0.0;
     Rgb rms_patch_channel, rms_smooth_channel;
-    std::size_t scored = 0;   // probes with a value, on a patch, and lit
-    std::size_t skipped = 0;  // probes without a value, dark (B_ref below 1e-3 of the median), or on no patch
+    std::size_t scored = 0;        // probes with a value, on a patch, and lit
+    std::size_t skipped = 0;       // probes without a value, dark (B_ref below 1e-3 of the median), or on no patch
     double reference_noise = 0.0;  // RMS of the probes' relative standard errors (luminance): the floor of any score
 };
 

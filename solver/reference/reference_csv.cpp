@@ -52,7 +52,8 @@ CsvTable read_csv(const std::filesystem::path& path) {
             } else {
                 if (record.size() != table.header.size())
                     throw InputError(p + ":" + std::to_string(record_line) + ": " + std::to_string(record.size()) +
-                                     " fields, expected " + std::to_string(table.header.size()) + " (as in the header)");
+                                     " fields, expected " + std::to_string(table.header.size()) +
+                                     " (as in the header)");
                 table.rows.push_back(record);
                 table.lines.push_back(record_line);
             }

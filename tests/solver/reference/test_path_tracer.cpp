@@ -11,7 +11,7 @@
 
 #include "mesh/cornell_box.h"
 #include "mesh/validation_scenes.h"
-#include "solver/point_polygon_form_factor.h"
+#include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/reference/path_tracer.h"
 
 using namespace bounce;

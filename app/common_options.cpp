@@ -1,0 +1,132 @@
+// SPDX-License-Identifier: MIT
+#include "app/common_options.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "mesh/input_error.h"
+#include "mesh/scene_loader.h"
+#include "solver/form_factors/form_factor_matrix.h"
+
+namespace bounce::app {
+
+const CLI::Validator kPositive(
+    [](std::string& v) {
+        try {
+            std::size_t used = 0;
+            const double x = std::stod(v, &used);
+            if (used == v.size() && std::isfinite(x) && x > 0) return std::string();
+        } catch (const std::exception&) {
+        }
+        return "must be a number > 0, got '" + v + "'";
+    },
+    "> 0");
+
+namespace {
+
+void print_warnings(const Scene& scene, bool quiet) {
+    if (quiet) return;
+    for (const auto& w : scene.warnings) std::cerr << "warning: " << w << "\n";
+}
+
+// Memory estimates, checked before the allocation they stand for.
+constexpr std::size_t kBytesPerPatch = 1024;  // Patch, OpenMesh face and vertices, AABB triangles, solver vectors
+
+}  // namespace
+
+PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& scene) {
+    scene = load_scene(spec);
+    if (o.strict && !scene.warnings.empty()) throw InputError(scene.warnings.front() + " (--strict)");
+    print_warnings(scene, o.quiet);
+    MeshingOptions m = o.meshing;
+    m.max_patches = std::min(m.max_patches, (o.max_memory_mb << 20) / kBytesPerPatch);
+    return PatchMesh(scene, m);
+}
+
+bool default_meshing(const CommonOptions& o) {
+    return o.meshing.max_area == 0 && o.meshing.max_edge == 0 &&
+           o.meshing.target_patches == MeshingOptions{}.target_patches;
+}
+
+void check_memory(const CommonOptions& o, const std::string& what, double bytes) {
+    if (bytes > double(o.max_memory_mb << 20)) {
+        std::ostringstream msg;
+        msg.precision(1);
+        msg << std::fixed << what << " needs about " << bytes / double(1 << 20) << " MB, over --max-memory "
+            << o.max_memory_mb << " MB";
+        throw ResourceLimitError(msg.str());
+    }
+}
+
+void check_form_factor_memory(const CommonOptions& o, const std::string& method, const FormFactorOptions& f) {
+    if (method != "hemicube") return;
+    const double r = f.hemicube_resolution;
+    const double threads = o.threads > 0 ? o.threads : double(std::thread::hardware_concurrency());
+    check_memory(o, "hemicube buffers (" + std::to_string(f.hemicube_resolution) + " pixels a side, per thread)",
+                 threads * r * r * 1.5 * 12.0 + 1.0);
+}
+
+void check_output(const std::filesystem::path& out) {
+    const auto dir = out.has_parent_path() ? out.parent_path() : std::filesystem::path(".");
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec))
+        throw InputError(out.string() + ": output directory " + dir.string() + " does not exist");
+    if (std::filesystem::is_directory(out, ec)) throw InputError(out.string() + ": is a directory");
+}
+
+void add_meshing_options(CLI::App* cmd, CommonOptions& o) {
+    cmd->add_option("scene", o.scene, "'cornell' (built-in, default), a .obj or a .json scene");
+    add_meshing_options_no_scene(cmd, o);
+}
+
+void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
+    cmd->add_option("--max-area", o.meshing.max_area, "largest patch area (scene units^2); default: total area / 2000")
+        ->check(kPositive);
+    cmd->add_option("--max-edge", o.meshing.max_edge, "longest patch edge (scene units)")->check(kPositive);
+    cmd->add_option("--patches", o.meshing.target_patches,
+                    "about this many patches when neither --max-area nor --max-edge is given (2000)")
+        ->check(CLI::Range(std::size_t(1), std::size_t(100000000)));
+    cmd->add_option("--max-memory", o.max_memory_mb, "refuse work estimated above this many MB (16384)")
+        ->check(kPositive);
+    cmd->add_flag(
+        "--strict", o.strict,
+        "treat every warning about the input (materials, degenerate, non-planar or crossing faces) as an error");
+    cmd->add_flag(
+        "--no-subdivide", [&o](std::int64_t) { o.meshing.subdivide = false; }, "one patch per input face");
+    cmd->add_flag("-q,--quiet", o.quiet, "no progress line, no warnings");
+    cmd->add_option("--threads", o.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--visibility", o.visibility, "visibility backend for shadow rays (default: embree)")
+        ->check(CLI::IsMember(visibility_backends()));
+}
+
+void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
+    cmd->add_option("--rays", f.visibility_rays, "visibility rays per patch pair (raycast)")
+        ->check(CLI::Range(1, 4096));
+    cmd->add_option("--receiver-samples", f.receiver_samples, "points per side of each receiver (raycast); 0: adaptive")
+        ->check(CLI::Range(0, 16));
+    cmd->add_option("--hemicube-res", f.hemicube_resolution, "hemicube pixels per side (even)")
+        ->check(CLI::Range(2, 4096));
+    cmd->add_flag("--hemicube-jitter", f.hemicube_jitter, "rotate each hemicube randomly about the normal");
+    cmd->add_option("--seed", f.seed, "seed of the rays and rotations");
+}
+
+void add_render_options(CLI::App* cmd, RenderOptions& r) {
+    cmd->add_option("--camera", r.camera, "cornell, auto or x,y,z:tx,ty,tz (default: cornell for the box)");
+    cmd->add_option(
+        "--size",
+        [&r](const CLI::results_t& v) { return std::sscanf(v[0].c_str(), "%dx%d", &r.width, &r.height) == 2; },
+        "picture size WxH (800x800)");
+    cmd->add_option("--exposure", r.exposure, "exposure in EV (0: mean patch at mid grey)");
+    cmd->add_flag("--smooth", r.smooth, "colours interpolated from the point data");
+    cmd->add_flag(
+        "--flat", [&r](std::int64_t) { r.smooth = false; }, "one colour per patch (default)");
+    cmd->add_flag("--luminance", r.luminance, "pseudo-colour by luminance with a colour bar");
+    cmd->add_flag("--edges", r.edges, "draw the patch edges");
+}
+
+}  // namespace bounce::app

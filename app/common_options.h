@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+// What several commands share: the scene and meshing options, the form-factor and render
+// options, loading with the --max-memory and --strict limits, and the checks made before work.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "mesh/patch_mesh.h"
+#include "mesh/scene.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/visibility/visibility.h"
+#include "viewer/renderer.h"
+
+namespace bounce::app {
+
+/// "> 0", with a readable message (CLI11's PositiveNumber prints the whole double range).
+extern const CLI::Validator kPositive;
+
+/// The options every command takes (one instance, bound to each subcommand's flags).
+struct CommonOptions {
+    std::string scene = "cornell";
+    MeshingOptions meshing;
+    bool quiet = false;
+    bool strict = false;
+    int threads = 0;
+    std::string visibility = visibility_backends().front();
+    std::size_t max_memory_mb = 16384;
+};
+
+/// The scene argument, then add_meshing_options_no_scene.
+void add_meshing_options(CLI::App* cmd, CommonOptions& o);
+/// --max-area, --max-edge, --patches, --max-memory, --strict, --no-subdivide, --quiet,
+/// --threads, --visibility.
+void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o);
+/// --rays, --receiver-samples, --hemicube-res, --hemicube-jitter, --seed.
+void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f);
+/// --camera, --size, --exposure, --smooth, --flat, --luminance, --edges.
+void add_render_options(CLI::App* cmd, RenderOptions& r);
+
+/// Loads and meshes with the limits of --max-memory and --strict applied.
+PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& scene);
+
+/// True when the user gave no meshing (no --max-area, --max-edge or --patches): the element
+/// methods then start from coarser patches of their own.
+bool default_meshing(const CommonOptions& o);
+
+/// Refuses work whose estimate exceeds --max-memory, naming the estimate.
+void check_memory(const CommonOptions& o, const std::string& what, double bytes);
+/// The hemicube's per-thread buffers against --max-memory (other methods need none).
+void check_form_factor_memory(const CommonOptions& o, const std::string& method, const FormFactorOptions& f);
+
+/// Refuses an unwritable destination before any work is done.
+void check_output(const std::filesystem::path& out);
+
+}  // namespace bounce::app

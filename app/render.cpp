@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+// bounce render: a .vtu (or a scene, solved first) to a PNG.
+#include "app/render.h"
+
+#include <filesystem>
+#include <memory>
+
+#include "app/command.h"
+#include "mesh/patch_mesh.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/linear/shooting_solver.h"
+#include "solver/visibility/visibility.h"
+
+namespace bounce::app {
+namespace {
+
+bool is_vtu(const std::string& p) { return std::filesystem::path(p).extension() == ".vtu"; }
+
+}  // namespace
+
+int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive) {
+    if (!interactive) check_output(r.output);
+    if (is_vtu(r.input)) {
+        interactive ? view_vtu(r.input, r.render, r.exit_after) : render_vtu(r.input, r.output, r.render);
+        return 0;
+    }
+    Scene scene;
+    PatchMesh mesh = load_and_mesh(o, r.input, scene);
+    const auto visibility = make_visibility(o.visibility, mesh.patches());
+    const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
+    const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
+    interactive ? view_solution(mesh, res, {r.input, ""}, r.render, r.exit_after)
+                : render_solution(mesh, res, {r.input, ""}, r.output, r.render);
+    return 0;
+}
+
+Command add_render_command(CLI::App& app, CommonOptions& common) {
+    auto rc = std::make_shared<RenderCommand>();
+    auto* render_cmd = app.add_subcommand("render", "render a .vtu (or a scene, solved first) to a PNG");
+    render_cmd->add_option("input", rc->input, "IN.vtu, or a scene")->required();
+    render_cmd->add_option("-o,--output", rc->output, "output PNG")->required();
+    add_render_options(render_cmd, rc->render);
+    add_meshing_options_no_scene(render_cmd, common);
+    return {render_cmd, [&common, rc] { return run_render(common, *rc, false); }};
+}
+
+}  // namespace bounce::app

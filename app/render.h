@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: MIT
+// What `render` and `view` share: a .vtu, or a scene solved first with the defaults, shown
+// either in a PNG or in a window.
+#pragma once
+
+#include <string>
+
+#include "app/common_options.h"
+#include "viewer/renderer.h"
+
+namespace bounce::app {
+
+struct RenderCommand {
+    std::string input;
+    std::string output;
+    RenderOptions render;
+    double exit_after = 0.0;
+};
+
+/// IN.vtu is rendered as it is; anything else is a scene, solved first with the defaults.
+/// interactive: a window (view) instead of the PNG r.output (render).
+int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive);
+
+}  // namespace bounce::app

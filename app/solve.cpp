@@ -1,0 +1,272 @@
+// SPDX-License-Identifier: MIT
+// bounce solve: radiosity of a scene, written as a .vtu (and optionally a .pvd series, a PNG
+// and a convergence log); --adaptive and --solver hierarchical solve on quadtree elements.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "app/command.h"
+#include "app/convergence_log.h"
+#include "app/progress_line.h"
+#include "app/signals.h"
+#include "mesh/patch_mesh.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/form_factors/form_factor_matrix.h"
+#include "solver/form_factors/raycast_form_factor.h"
+#include "solver/linear/convergence.h"
+#include "solver/linear/shooting_solver.h"
+#include "solver/linear/solver.h"
+#include "solver/refinement/adaptive_radiosity.h"
+#include "solver/refinement/hierarchical_radiosity.h"
+#include "solver/visibility/visibility.h"
+#include "viewer/renderer.h"
+#include "viewer/series_writer.h"
+#include "viewer/vtu_writer.h"
+
+namespace bounce::app {
+namespace {
+
+struct SolveCommand {
+    std::string output;
+    std::string solver = "shooting";
+    SolverOptions options;
+    std::string method = "raycast";
+    FormFactorOptions ff;
+    std::size_t max_matrix_mb = 2048;
+    std::string log_csv;
+    bool ascii = false;
+    std::string png;
+    std::size_t series = 0;
+    RenderOptions render;
+    int element_split = 1;
+    bool adaptive = false;
+    AdaptiveOptions adaptive_options;
+    HierarchicalOptions hierarchical;
+};
+
+std::string default_output(const std::string& scene) {
+    if (scene == "cornell") return "cornell.vtu";
+    return std::filesystem::path(scene).stem().string() + ".vtu";
+}
+
+/// --adaptive and --solver hierarchical: quadtree elements over the patches, exported as a
+/// conforming mesh of the leaves.
+int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std::filesystem::path& out) {
+    if (s.element_split > 1) throw std::invalid_argument("--elements does not combine with --adaptive or hierarchical");
+    if (s.method != "raycast") throw std::invalid_argument("--adaptive and hierarchical use raycast form factors");
+    const bool hierarchical = s.solver == "hierarchical";
+    CommonOptions roots = o;
+    // Start coarse: the elements refine where the light needs it.
+    if (hierarchical && default_meshing(o)) roots.meshing.subdivide = false;
+    if (!hierarchical && default_meshing(o)) roots.meshing.target_patches = 150;
+    Scene scene;
+    const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
+    const auto visibility = make_visibility(o.visibility, mesh.patches());
+    ProgressLine progress(!o.quiet, "round", "estimate");
+    SolveResult res;
+    std::optional<PatchMesh> elements;
+    std::ostringstream settings, summary;
+    settings << "patches=" << mesh.size() << " rays=" << s.ff.visibility_rays << " seed=" << s.ff.seed;
+    if (hierarchical) {
+        HierarchicalOptions h = s.hierarchical;
+        h.form_factors = s.ff;
+        h.cancel = &g_interrupted;
+        HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
+        elements.emplace(sol.tree.conforming_mesh(sol.leaves));
+        res = std::move(sol.result);
+        const double n = double(sol.leaves.size());
+        settings << " solver=hierarchical link_epsilon=" << h.link_epsilon << " link_floor=" << h.link_floor
+                 << " max_level=" << h.max_level << " elements=" << sol.leaves.size() << " links=" << sol.links;
+        summary << "patches " << mesh.size() << ", hierarchical: " << sol.leaves.size() << " elements, " << sol.links
+                << " links (" << 100.0 * double(sol.links) / (n * n) << "% of N^2), " << res.steps << " iterations, "
+                << res.seconds << " s\n";
+    } else {
+        AdaptiveOptions a = s.adaptive_options;
+        a.form_factors = s.ff;
+        a.cancel = &g_interrupted;
+        a.progress = [&](std::size_t round, const AdaptiveRound& r) {
+            progress.update({round, 0, r.rms_estimate, a.target_error, r.seconds});
+        };
+        AdaptiveSolution sol = solve_adaptive(mesh.patches(), *visibility, a);
+        progress.finish();
+        elements.emplace(sol.tree.conforming_mesh(sol.leaves));
+        res = std::move(sol.result);
+        settings << " solver=adaptive target_error=" << a.target_error << " max_patches=" << a.max_elements
+                 << " elements=" << sol.leaves.size() << " rounds=" << sol.rounds.size();
+        summary << "patches " << mesh.size() << ", adaptive: " << sol.leaves.size() << " elements after "
+                << sol.rounds.size() << " rounds, RMS error estimate " << sol.rounds.back().rms_estimate << " (target "
+                << a.target_error << "), " << res.seconds << " s\n";
+        res.converged = res.converged && sol.rounds.back().rms_estimate <= a.target_error;
+        if (!res.converged && res.status == "converged") res.status = "element budget reached";
+    }
+    write_vtu(out, *elements, res, {o.scene, settings.str()}, s.ascii);
+    if (interrupted_exit_code()) {
+        std::cerr << "bounce: interrupted; wrote the solution so far to " << out.string() << " (converged = 0)\n";
+        return interrupted_exit_code();
+    }
+    if (!s.png.empty()) render_solution(*elements, res, {o.scene, settings.str()}, s.png, s.render);
+    if (!o.quiet)
+        std::cout << summary.str() << "wrote " << out.string() << (s.png.empty() ? "" : " and " + s.png) << "\n";
+    if (!res.converged && !o.quiet)
+        std::cerr << "bounce: not converged (" << res.status << "); the solution was written\n";
+    return res.converged ? 0 : 3;
+}
+
+int run_solve(const CommonOptions& o, const SolveCommand& s) {
+    const std::filesystem::path out = s.output.empty() ? default_output(o.scene) : s.output;
+    check_output(out);
+    if (s.adaptive || s.solver == "hierarchical") return run_solve_elements(o, s, out);
+    if (!s.log_csv.empty()) check_output(s.log_csv);
+
+    const bool elements = s.element_split > 1;
+    if (elements && (s.solver != "shooting" || s.method == "hemicube"))
+        throw std::invalid_argument("--elements needs the shooting solver and raycast or analytic form factors");
+    CommonOptions fine = o;
+    fine.meshing.element_split = s.element_split;
+    Scene scene;
+    PatchMesh mesh = load_and_mesh(fine, o.scene, scene);
+    const auto& P = mesh.patches();
+    const double n = double(P.size());
+    std::optional<PatchMesh> shooters;  // with --elements: the patches that shoot to the elements
+    if (elements) shooters.emplace(scene, o.meshing);
+    check_form_factor_memory(o, s.method, s.ff);
+    if (s.solver != "shooting")
+        check_memory(o, "the form-factor matrix (" + std::to_string(P.size()) + " patches)", n * n * 4);
+    if (s.solver == "direct") check_memory(o, "the direct solver (matrix and LU factors)", n * n * 12);
+    const auto visibility = make_visibility(o.visibility, P);
+    const auto ff = elements ? std::make_unique<PatchToElementFormFactor>(
+                                   shooters->patches(), P, s.method == "analytic" ? nullptr : visibility.get(), s.ff)
+                             : make_form_factor_estimator(s.method, P, visibility.get(), s.ff);
+    const bool shooting = s.solver == "shooting";
+    ProgressLine progress(!o.quiet, shooting ? "shot" : "sweep", shooting ? "unshot" : "residual");
+    std::optional<FormFactorMatrix> matrix;
+    if (s.solver != "shooting") {
+        matrix = FormFactorMatrix::build(
+            *ff, P.size(), s.max_matrix_mb << 20, [&](std::size_t d, std::size_t t) { progress.rows(d, t); },
+            &g_interrupted);
+        progress.finish();
+    }
+    if (matrix) {
+        const double bound = contraction_bound(P, matrix->row_sums());
+        if (bound >= 1.0 && !o.quiet)
+            std::cerr << "warning: max rho_i * sum_j F_ij = " << bound
+                      << " >= 1: the iteration may not converge (reflectance 1 in a closed scene, or row sums "
+                         "above 1)\n";
+    }
+    SolverOptions so = s.options;
+    so.progress = [&](const SolveProgress& p) { progress.update(p); };
+    so.max_matrix_mb = s.max_matrix_mb;
+    so.cancel = &g_interrupted;
+    std::optional<SeriesWriter> series;
+    const ExportInfo info{o.scene, ""};
+    if (s.series > 0) {
+        series.emplace(std::filesystem::path(out).replace_extension(".pvd"), mesh, info);
+        so.snapshot_every = s.series;
+        so.snapshot = [&](std::size_t step, const std::vector<Rgb>& B) { series->add(step, B); };
+    }
+    const auto solver = elements ? std::make_unique<ShootingSolver>(
+                                       P, *ff, so, nullptr, ElementHierarchy{&shooters->patches(), &mesh.parents()})
+                                 : make_solver(s.solver, {P, ff.get(), matrix ? &*matrix : nullptr}, so);
+    SolveResult res = solver->solve();
+    progress.finish();
+    res.form_factors = s.method;
+    if (matrix) res.seconds += matrix->seconds();
+
+    std::ostringstream settings;
+    settings << "patches=" << (elements ? shooters->size() : mesh.size()) << " elements=" << mesh.size()
+             << " edge=" << mesh.edge_length() << " solver=" << s.solver << " sor=" << s.options.sor
+             << " method=" << s.method << " rays=" << s.ff.visibility_rays
+             << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
+             << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance;
+    write_vtu(out, mesh, res, {o.scene, settings.str()}, s.ascii);
+    if (interrupted_exit_code()) {
+        std::cerr << "bounce: interrupted after " << res.steps << " steps; wrote the solution so far to "
+                  << out.string() << " (converged = 0)\n";
+        return interrupted_exit_code();
+    }
+    if (series) series->finish(res);
+    if (!s.png.empty()) render_solution(mesh, res, {o.scene, settings.str()}, s.png, s.render);
+    if (!s.log_csv.empty()) write_log_csv(s.log_csv, {res}, {s.method}, {matrix ? matrix->seconds() : 0.0});
+    if (!o.quiet) {
+        std::cout << "patches " << (elements ? std::to_string(shooters->size()) + ", elements " : "") << mesh.size()
+                  << ", " << s.solver << " " << res.steps << (s.solver == "shooting" ? " shots" : " sweeps");
+        if (s.solver == "shooting") std::cout << ", unshot fraction " << res.unshot_fraction;
+        if (res.residual >= 0) std::cout << ", residual " << res.residual;
+        std::cout << (res.converged ? "" : " (NOT converged: " + res.status + ")") << ", " << res.seconds << " s\n"
+                  << "wrote " << out.string() << (series ? " and " + series->pvd().string() : "")
+                  << (s.png.empty() ? "" : " and " + s.png) << "\n";
+    }
+    if (!res.converged && !o.quiet) {
+        std::cerr << "bounce: not converged (" << res.status << "), last "
+                  << (res.residual >= 0 ? "residual " + std::to_string(res.residual)
+                                        : "unshot fraction " + std::to_string(res.unshot_fraction))
+                  << "; the partial solution was written\n";
+    }
+    return res.converged ? 0 : 3;
+}
+
+}  // namespace
+
+Command add_solve_command(CLI::App& app, CommonOptions& common) {
+    auto solve = std::make_shared<SolveCommand>();
+    auto* solve_cmd = app.add_subcommand("solve", "compute radiosity and write a .vtu");
+    add_meshing_options(solve_cmd, common);
+    solve_cmd->add_option("-o,--output", solve->output, "output .vtu (default: <scene>.vtu)");
+    std::vector<std::string> solve_solvers = solver_names();
+    solve_solvers.push_back("hierarchical");
+    solve_cmd->add_option("--solver", solve->solver, "shooting, gauss-seidel, jacobi, direct or hierarchical")
+        ->check(CLI::IsMember(solve_solvers));
+    solve_cmd->add_flag("--adaptive", solve->adaptive,
+                        "adaptive subdivision: patches (150 unless meshing is given) refined into elements where the "
+                        "radiosity varies");
+    solve_cmd
+        ->add_option("--target-error", solve->adaptive_options.target_error,
+                     "adaptive: stop when the RMS error estimate is below this (relative; 0.05)")
+        ->check(kPositive);
+    solve_cmd->add_option("--max-patches", solve->adaptive_options.max_elements, "adaptive: element budget (20000)")
+        ->check(CLI::Range(std::size_t(1), std::size_t(10000000)));
+    solve_cmd
+        ->add_option("--link-epsilon", solve->hierarchical.link_epsilon,
+                     "hierarchical: link error bound, a share of what the link brings (0.1)")
+        ->check(kPositive);
+    solve_cmd
+        ->add_option("--max-level", solve->hierarchical.max_level,
+                     "hierarchical: quadtree depth under each input face (4)")
+        ->check(CLI::Range(0, 12));
+    solve_cmd
+        ->add_option("--tolerance", solve->options.tolerance,
+                     "stop below this unshot fraction (shooting) or relative residual (others); 1e-3")
+        ->check(kPositive);
+    solve_cmd->add_option("--max-shots,--max-iterations", solve->options.max_iterations,
+                          "stop after this many shots or sweeps (default 100 N shots, 10000 sweeps)");
+    solve_cmd->add_option("--max-seconds", solve->options.max_seconds, "stop after this many seconds")
+        ->check(CLI::NonNegativeNumber);
+    solve_cmd->add_option("--sor", solve->options.sor, "over-relaxation factor for jacobi and gauss-seidel, (0,2)")
+        ->check(CLI::Range(0.0, 2.0));
+    solve_cmd->add_option("--log", solve->log_csv, "write the convergence log (CSV)");
+    solve_cmd->add_flag("--overshoot", solve->options.overshoot, "shooting: over-shoot by rho times the ambient term");
+    solve_cmd
+        ->add_option("--elements", solve->element_split,
+                     "shooting: cut every patch into KxK elements that receive (patches shoot to elements)")
+        ->check(CLI::Range(1, 64));
+    solve_cmd->add_option(
+        "--cache-mb", solve->options.cache_mb,
+        "shooting: memory for cached form-factor rows (MB, default 1024); rows beyond it are recomputed");
+    solve_cmd->add_option("--max-matrix-mb", solve->max_matrix_mb, "refuse a matrix larger than this (MB)");
+    solve_cmd->add_option("--form-factors", solve->method, "raycast, hemicube, or analytic (no occlusion)")
+        ->check(CLI::IsMember(form_factor_methods()));
+    add_form_factor_options(solve_cmd, solve->ff);
+    solve_cmd->add_flag("--ascii", solve->ascii, "write ASCII instead of compressed binary");
+    solve_cmd->add_option("--png", solve->png, "render the result to this PNG after solving");
+    solve_cmd->add_option("--series", solve->series,
+                          "also write a .pvd time series: a snapshot every N shots or sweeps");
+    add_render_options(solve_cmd, solve->render);
+    return {solve_cmd, [&common, solve] { return run_solve(common, *solve); }};
+}
+
+}  // namespace bounce::app

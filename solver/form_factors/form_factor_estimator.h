@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mesh/patch.h"
+
+namespace bounce {
+
+class Visibility;
+
+/// Settings shared by the form-factor methods.
+struct FormFactorOptions {
+    int visibility_rays = 4;         // rays per patch pair for the visible fraction (stratified)
+    double receiver_sampling = 4.0;  // receiver points per side = ceil(this * size / distance)
+    int max_receiver_samples = 16;   // cap on points per side of a receiver
+    int receiver_samples = 0;        // fixed points per side of a receiver; 0: adaptive (above)
+    std::uint64_t seed = 1;          // rays depend only on (seed, i, j): thread-count independent
+    int hemicube_resolution = 256;   // pixels per side of the hemicube's top face (even)
+    bool hemicube_jitter = false;    // rotate each hemicube randomly about the normal (seeded)
+};
+
+/// Computes rows of the form-factor matrix. F_ij is the fraction of power leaving patch i
+/// (diffusely, from its front) that arrives at patch j; rows sum to 1 in a closed enclosure
+/// and A_i F_ij = A_j F_ji (reciprocity).
+class FormFactorEstimator {
+public:
+    virtual ~FormFactorEstimator() = default;
+    virtual std::string name() const = 0;
+    /// row[j] = F_ij for every patch j (row.size() == patch count); row[i] = 0 (planar patches
+    /// do not see themselves). Safe to call concurrently for different rows.
+    virtual void compute_row(std::size_t i, std::span<float> row) const = 0;
+    /// True when each unordered pair is estimated once, so that A_i F_ij = A_j F_ji holds to
+    /// rounding and a caller may take F_ij = F_ji A_j / A_i from a row it already has.
+    virtual bool reciprocal() const { return false; }
+    /// A_i, for callers applying reciprocity (reciprocal() estimators only).
+    virtual double patch_area(std::size_t i) const {
+        (void)i;
+        throw std::logic_error(name() + " form factors are not reciprocal: no areas");
+    }
+    /// compute_row that leaves row[j] as the caller filled it wherever known[j] != 0 (the
+    /// caller took it from reciprocity). Only reciprocal() estimators honour `known`.
+    virtual void compute_row(std::size_t i, std::span<float> row, std::span<const std::uint8_t> known) const {
+        (void)known;
+        compute_row(i, row);
+    }
+};
+
+/// The methods by name: "raycast" (exact point-to-polygon kernel at receiver points times a
+/// ray-traced visible fraction), "analytic" (the same kernel, no occlusion) and "hemicube"
+/// (item buffer at the shooter's centre; visibility comes from its depth test). Throws
+/// std::invalid_argument on an unknown name, listing the valid ones. `visibility` must
+/// outlive the estimator; it may be null for "analytic".
+std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::string& method,
+                                                                const std::vector<Patch>& patches,
+                                                                const Visibility* visibility,
+                                                                const FormFactorOptions& options);
+
+/// The method names make_form_factor_estimator accepts.
+std::vector<std::string> form_factor_methods();
+
+}  // namespace bounce

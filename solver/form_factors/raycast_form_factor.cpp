@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: MIT
+#include "solver/form_factors/raycast_form_factor.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
+
+#include "solver/form_factors/hemicube_form_factor.h"
+#include "solver/form_factors/patch_sampling.h"
+#include "solver/form_factors/point_polygon_form_factor.h"
+#include "solver/visibility/visibility.h"
+
+namespace bounce {
+namespace {
+
+double patch_size(const Patch& p) {
+    double s = 0.0;
+    for (int k = 0; k < p.vertex_count; ++k)
+        for (int l = k + 1; l < p.vertex_count; ++l) s = std::max(s, glm::length(p.vertices[k] - p.vertices[l]));
+    return s;
+}
+
+}  // namespace
+
+RaycastFormFactor::RaycastFormFactor(const std::vector<Patch>& patches, const Visibility* visibility,
+                                     const FormFactorOptions& options)
+    : m_patches(patches), m_visibility(visibility), m_options(options) {
+    if (options.visibility_rays < 1) throw std::invalid_argument("visibility rays must be at least 1");
+    if (!(options.receiver_sampling > 0) || options.max_receiver_samples < 1)
+        throw std::invalid_argument("receiver sampling must be positive");
+}
+
+double RaycastFormFactor::visible_fraction(std::size_t i, std::size_t j) const {
+    if (!m_visibility) return 1.0;
+    // Canonical order so (i, j) and (j, i) trace the very same rays.
+    const std::size_t lo = std::min(i, j), hi = std::max(i, j);
+    const Patch& a = m_patches[lo];
+    const Patch& b = m_patches[hi];
+    const int m = m_options.visibility_rays;
+    const int side = int(std::ceil(std::sqrt(double(m))));
+    SplitMix64 rng{m_options.seed * 0x9E3779B97F4A7C15ull ^ (std::uint64_t(lo) << 32 | std::uint64_t(hi))};
+    // A random pairing of the strata on a and b (Latin-style), drawn from the pair's stream.
+    int perm[64];
+    const int cells = std::min(side * side, 64);
+    std::iota(perm, perm + cells, 0);
+    for (int k = cells - 1; k > 0; --k) std::swap(perm[k], perm[rng.next() % std::uint64_t(k + 1)]);
+    const double eps = m_visibility->offset();
+    thread_local std::vector<Visibility::Segment> rays;
+    rays.clear();
+    for (int r = 0; r < m; ++r) {
+        const int ca = r % cells, cb = perm[r % cells];
+        const glm::dvec3 pa = patch_point(a, (ca % side + rng.uniform()) / side, (ca / side + rng.uniform()) / side);
+        const glm::dvec3 pb = patch_point(b, (cb % side + rng.uniform()) / side, (cb / side + rng.uniform()) / side);
+        // Rays from points behind the other patch carry no power; leave them out.
+        if (a.height(pb) <= eps || b.height(pa) <= eps) continue;
+        rays.push_back({pa + eps * a.normal, pb + eps * b.normal});
+    }
+    return m_visibility->open_fraction(rays);
+}
+
+double RaycastFormFactor::point_factor(const glm::dvec3& x, const glm::dvec3& n, std::size_t j,
+                                       std::uint64_t stream) const {
+    const Patch& q = m_patches[j];
+    const double eps = m_visibility ? m_visibility->offset() : 0.0;
+    // A one-sided emitter sends nothing backwards; a point on q's own plane sees none of it.
+    if (q.height(x) <= std::max(eps, 1e-12 * std::sqrt(q.area))) return 0.0;
+    const double f = point_polygon_form_factor(x, n, q.polygon());
+    if (f <= 0.0 || !m_visibility) return std::max(f, 0.0);
+    const int m = m_options.visibility_rays;
+    const int side = int(std::ceil(std::sqrt(double(m))));
+    SplitMix64 rng{m_options.seed * 0x9E3779B97F4A7C15ull ^ stream * 0xD1B54A32D192ED03ull ^ std::uint64_t(j)};
+    thread_local std::vector<Visibility::Segment> rays;
+    rays.clear();
+    for (int r = 0; r < m; ++r) {
+        const int c = r % (side * side);
+        const glm::dvec3 pq = patch_point(q, (c % side + rng.uniform()) / side, (c / side + rng.uniform()) / side);
+        if (glm::dot(n, pq - x) <= eps) continue;  // below x's tangent plane: carries nothing
+        rays.push_back({x + eps * n, pq + eps * q.normal});
+    }
+    return f * m_visibility->open_fraction(rays);
+}
+
+double RaycastFormFactor::pair(std::size_t i, std::size_t j) const {
+    if (i == j) return 0.0;
+    // Receiver points go on the smaller patch (ties: the higher index), whichever way round
+    // the pair is asked for, so F_ij and F_ji come from one integral.
+    const double ai = m_patches[i].area, aj = m_patches[j].area;
+    const bool j_receives = aj < ai || (aj == ai && j > i);
+    return j_receives ? directed(i, j) : directed(j, i) * aj / ai;
+}
+
+double RaycastFormFactor::directed(std::size_t i, std::size_t j) const {
+    const Patch& s = m_patches[i];
+    const Patch& r = m_patches[j];
+    if (wholly_behind(s, r) || wholly_behind(r, s)) return 0.0;
+    const double dist = glm::length(r.centre - s.centre);
+    const double want = std::ceil(m_options.receiver_sampling * patch_size(r) / std::max(dist, 1e-300));
+    const int n = m_options.receiver_samples > 0 ? m_options.receiver_samples
+                                                 : int(std::clamp(want, 1.0, double(m_options.max_receiver_samples)));
+    thread_local std::vector<AreaSample> samples;
+    double fji = 0.0;
+    bool straddles = false;
+    const double below = -1e-9 * std::sqrt(r.area);  // rounding: a vertex on the plane is not below it
+    for (int k = 0; k < r.vertex_count; ++k) straddles |= s.height(r.vertices[k]) < below;
+    if (!straddles) {
+        patch_quadrature(r, n, samples);
+        for (const auto& q : samples) fji += q.weight * point_polygon_form_factor(q.point, r.normal, s.polygon());
+    } else {
+        // Only the part of the receiver in front of the shooter receives. Integrating the
+        // cut-off kernel over the whole patch would put a jump inside the quadrature (error
+        // O(1/n)); clip the receiver to the shooter's front half-space and integrate the
+        // clipped polygon's triangles instead.
+        std::array<glm::dvec3, 5> clip;
+        int m = 0;
+        for (int k = 0; k < r.vertex_count; ++k) {
+            const glm::dvec3 &a = r.vertices[k], &b = r.vertices[(k + 1) % r.vertex_count];
+            const double ha = s.height(a), hb = s.height(b);
+            if (ha > 0) clip[m++] = a;
+            if ((ha > 0) != (hb > 0)) clip[m++] = a + (ha / (ha - hb)) * (b - a);
+        }
+        for (int k = 1; k + 1 < m; ++k) {
+            Patch t;
+            t.vertex_count = 3;
+            t.vertices = {clip[0], clip[k], clip[k + 1], glm::dvec3(0.0)};
+            t.centre = (clip[0] + clip[k] + clip[k + 1]) / 3.0;
+            const double share = 0.5 * glm::length(glm::cross(clip[k] - clip[0], clip[k + 1] - clip[0])) / r.area;
+            patch_quadrature(t, n, samples);
+            for (const auto& q : samples)
+                fji += share * q.weight * point_polygon_form_factor(q.point, r.normal, s.polygon());
+        }
+    }
+    if (fji <= 0.0) return 0.0;
+    return fji * visible_fraction(i, j) * r.area / s.area;
+}
+
+void RaycastFormFactor::compute_row(std::size_t i, std::span<float> row) const {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, row.size(), 64), [&](const auto& range) {
+        for (std::size_t j = range.begin(); j != range.end(); ++j) row[j] = float(pair(i, j));
+    });
+}
+
+void RaycastFormFactor::compute_row(std::size_t i, std::span<float> row, std::span<const std::uint8_t> known) const {
+    if (known.size() != row.size()) throw std::invalid_argument("compute_row: known and row differ in size");
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, row.size(), 64), [&](const auto& range) {
+        for (std::size_t j = range.begin(); j != range.end(); ++j)
+            if (!known[j]) row[j] = float(pair(i, j));
+    });
+}
+
+namespace {
+std::vector<Patch> joined(const std::vector<Patch>& a, const std::vector<Patch>& b) {
+    std::vector<Patch> all(a);
+    all.insert(all.end(), b.begin(), b.end());
+    return all;
+}
+}  // namespace
+
+PatchToElementFormFactor::PatchToElementFormFactor(const std::vector<Patch>& patches,
+                                                   const std::vector<Patch>& elements, const Visibility* visibility,
+                                                   const FormFactorOptions& options)
+    : m_all(joined(patches, elements)), m_first_element(patches.size()), m_inner(m_all, visibility, options) {}
+
+void PatchToElementFormFactor::compute_row(std::size_t i, std::span<float> row) const {
+    if (i >= m_first_element || row.size() != m_all.size() - m_first_element)
+        throw std::invalid_argument("patch-to-element row: patch index or row length out of range");
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, row.size(), 64), [&](const auto& range) {
+        for (std::size_t j = range.begin(); j != range.end(); ++j) row[j] = float(m_inner.pair(i, m_first_element + j));
+    });
+}
+
+std::vector<std::string> form_factor_methods() { return {"raycast", "analytic", "hemicube"}; }
+
+std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::string& method,
+                                                                const std::vector<Patch>& patches,
+                                                                const Visibility* visibility,
+                                                                const FormFactorOptions& options) {
+    if (method == "raycast") {
+        if (!visibility) throw std::invalid_argument("raycast form factors need a visibility backend");
+        return std::make_unique<RaycastFormFactor>(patches, visibility, options);
+    }
+    if (method == "analytic") return std::make_unique<RaycastFormFactor>(patches, nullptr, options);
+    if (method == "hemicube") return std::make_unique<HemicubeFormFactor>(patches, options);
+    std::string valid;
+    for (const auto& m : form_factor_methods()) valid += (valid.empty() ? "" : ", ") + m;
+    throw std::invalid_argument("unknown form-factor method '" + method + "' (valid: " + valid + ")");
+}
+
+}  // namespace bounce

@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <vector>
+
+#include "solver/form_factors/form_factor_estimator.h"
+
+namespace bounce {
+
+/// Ray-cast form factors in the manner of Wallace, Elmquist and Haines (1989): the exact
+/// point-to-polygon factor from quadrature points on the receiver j to the shooter i,
+/// F_ji = (1/A_j) int_Aj F(dA -> P_i) dA, times the fraction of stratified rays between the
+/// two patches that no other patch blocks; then F_ij = (A_j / A_i) F_ji by reciprocity.
+/// Each unordered pair is integrated once, over the smaller of the two patches (the kernel is
+/// exact over the other), so reciprocity holds to rounding and a row may borrow entries from
+/// rows computed before (compute_row with `known`), halving the work of a full solve.
+///
+/// The receiver gets n x n points with n = ceil(receiver_sampling * size / distance), so
+/// near pairs are integrated finely and far pairs with one point. The rays of a pair depend
+/// only on (seed, min(i,j), max(i,j)), so the visible fraction is the same both ways round.
+/// With no visibility (the "analytic" method) the occlusion test is skipped.
+class RaycastFormFactor final : public FormFactorEstimator {
+public:
+    RaycastFormFactor(const std::vector<Patch>& patches, const Visibility* visibility,
+                      const FormFactorOptions& options);
+    std::string name() const override { return m_visibility ? "raycast" : "analytic"; }
+    void compute_row(std::size_t i, std::span<float> row) const override;
+    void compute_row(std::size_t i, std::span<float> row, std::span<const std::uint8_t> known) const override;
+    bool reciprocal() const override { return true; }
+    double patch_area(std::size_t i) const override { return m_patches[i].area; }
+    /// F_ij for one pair (0 when i == j).
+    double pair(std::size_t i, std::size_t j) const;
+    /// Fraction of the pair's rays that arrive unblocked (1 without visibility).
+    double visible_fraction(std::size_t i, std::size_t j) const;
+    /// F(dA at x with normal n -> patch j): the exact kernel times the fraction of stratified
+    /// rays from x to j that arrive; `stream` seeds the rays (the same stream, the same rays).
+    /// Radiosity at a point, B(x) = E + rho sum_j F(x -> j) B_j, is what adaptive
+    /// subdivision compares with an element's mean.
+    double point_factor(const glm::dvec3& x, const glm::dvec3& n, std::size_t j, std::uint64_t stream) const;
+
+private:
+    /// F_ij integrated over receiver points on j (the exact kernel covers the shooter i).
+    double directed(std::size_t i, std::size_t j) const;
+
+    const std::vector<Patch>& m_patches;
+    const Visibility* m_visibility;
+    FormFactorOptions m_options;
+};
+
+/// Rows from patches to elements, for shooting with an ElementHierarchy: row i holds
+/// F(patch i -> element j) for every element j, from the same kernel and rays as
+/// RaycastFormFactor applied to the joint list (patches, then elements).
+class PatchToElementFormFactor final : public FormFactorEstimator {
+public:
+    PatchToElementFormFactor(const std::vector<Patch>& patches, const std::vector<Patch>& elements,
+                             const Visibility* visibility, const FormFactorOptions& options);
+    std::string name() const override { return m_inner.name(); }
+    void compute_row(std::size_t i, std::span<float> row) const override;
+
+private:
+    std::vector<Patch> m_all;  // patches, then elements; declared before m_inner, which refers to it
+    std::size_t m_first_element;
+    RaycastFormFactor m_inner;
+};
+
+}  // namespace bounce

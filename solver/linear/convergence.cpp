@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+#include "solver/linear/convergence.h"
+
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+namespace bounce {
+
+double relative_residual(const std::vector<Patch>& patches, const FormFactorMatrix& F, const std::vector<Rgb>& B) {
+    const std::size_t n = patches.size();
+    const double num = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, n, 32), 0.0,
+        [&](const auto& range, double acc) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const float* row = F.row(i);
+                double g[3] = {0, 0, 0};
+                for (std::size_t j = 0; j < n; ++j) {
+                    const double f = row[j];
+                    g[0] += f * B[j].r;
+                    g[1] += f * B[j].g;
+                    g[2] += f * B[j].b;
+                }
+                const Patch& p = patches[i];
+                for (int c = 0; c < 3; ++c) {
+                    const double r = p.emission[c] + p.reflectance[c] * g[c] - B[i][c];
+                    acc += p.area * r * r;
+                }
+            }
+            return acc;
+        },
+        std::plus<double>());
+    double den = 0.0;
+    for (const auto& p : patches)
+        for (int c = 0; c < 3; ++c) den += p.area * p.emission[c] * p.emission[c];
+    return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+}
+
+void reference_errors(const std::vector<Rgb>& B, const std::vector<Rgb>& reference, double& rms, double& max) {
+    double diff2 = 0.0, ref2 = 0.0;
+    max = 0.0;
+    for (std::size_t i = 0; i < B.size() && i < reference.size(); ++i) {
+        const Rgb d = B[i] - reference[i];
+        diff2 += d.r * d.r + d.g * d.g + d.b * d.b;
+        ref2 += reference[i].r * reference[i].r + reference[i].g * reference[i].g + reference[i].b * reference[i].b;
+        const double ref = reference[i].sum();
+        if (ref > 0) max = std::max(max, (std::abs(d.r) + std::abs(d.g) + std::abs(d.b)) / ref);
+    }
+    rms = ref2 > 0 ? std::sqrt(diff2 / ref2) : 0.0;
+}
+
+double contraction_bound(const std::vector<Patch>& patches, const std::vector<double>& row_sums) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < patches.size(); ++i)
+        worst = std::max(worst, patches[i].reflectance.max() * row_sums[i]);
+    return worst;
+}
+
+void gathered_energy_account(const std::vector<Patch>& geometry, const std::vector<std::uint32_t>& leaves,
+                             SolveResult& res) {
+    res.emitted_power = res.absorbed_power = res.escaped_power = res.unshot_power = Rgb();
+    Rgb power, arriving;
+    for (std::size_t k = 0; k < leaves.size(); ++k) {
+        const Patch& g = geometry[leaves[k]];
+        const Rgb& h = res.irradiance[k];
+        res.emitted_power += g.emission * g.area;
+        res.absorbed_power += (h - g.reflectance * h) * g.area;
+        arriving += h * g.area;
+        power += res.radiosity[k] * g.area;
+    }
+    res.escaped_power = power - arriving;
+}
+
+}  // namespace bounce

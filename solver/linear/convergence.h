@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "mesh/patch.h"
+#include "solver/form_factors/form_factor_matrix.h"
+#include "solver/linear/solve_result.h"
+
+namespace bounce {
+
+/// ||E + rho F B - B|| / ||E||, with the area-weighted 2-norm ||x||^2 = sum_i A_i |x_i|^2 over
+/// patches and channels (a power-like measure that does not change with the meshing).
+double relative_residual(const std::vector<Patch>& patches, const FormFactorMatrix& F, const std::vector<Rgb>& B);
+
+/// Errors of B against a reference R: the relative RMS error ||B - R|| / ||R|| (2-norms over
+/// patches and channels) and the largest per-patch relative error |B_i - R_i| / |R_i|
+/// (channel sums; patches with R_i = 0, fully hidden ones, are skipped).
+void reference_errors(const std::vector<Rgb>& B, const std::vector<Rgb>& reference, double& rms, double& max);
+
+/// Largest rho_i * sum_j F_ij over patches and channels: a bound on the spectral radius of
+/// rho F. At or above 1 the iteration need not converge (reflectance 1 in a closed scene makes
+/// the system singular; rows summing above 1 make it diverge).
+double contraction_bound(const std::vector<Patch>& patches, const std::vector<double>& row_sums);
+
+/// The energy account of a gathering solution on elements: element k is geometry[leaves[k]]
+/// with res.radiosity[k] and res.irradiance[k] set. Fills emitted, absorbed ((1 - rho) H A)
+/// and escaped power (what leaves the surfaces, B A, less what arrives, H A: it went out
+/// through the openings); nothing is unshot.
+void gathered_energy_account(const std::vector<Patch>& geometry, const std::vector<std::uint32_t>& leaves,
+                             SolveResult& res);
+
+}  // namespace bounce

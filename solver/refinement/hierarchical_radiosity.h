@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <vector>
+
+#include "mesh/element_tree.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/linear/solve_result.h"
+
+namespace bounce {
+
+class Visibility;
+
+struct HierarchicalOptions {
+    double link_epsilon = 0.1;  // link when the error bound is below this share of what the link brings
+    double link_floor = 1e-3;   // ... plus this share of the scene's mean radiosity (faint links stay coarse)
+    int refine_rounds = 3;      // refine links with the last solution's B, then solve; this many times
+    double min_area = 0.0;      // never split an element smaller than this (0: the patch area / 4^max_level)
+    int max_level = 4;          // quadtree depth under each patch
+    double tolerance = 1e-6;    // stop when no element's radiosity changes by more than this, relatively
+    std::size_t max_iterations = 1000;
+    FormFactorOptions form_factors;
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+struct HierarchicalSolution {
+    ElementTree tree;
+    std::vector<std::uint32_t> leaves;  // the elements of the result
+    SolveResult result;                 // per leaf
+    std::size_t links = 0;              // element-to-element interactions
+    double refine_seconds = 0.0;        // building the links (form factors included), all rounds
+};
+
+/// Hierarchical radiosity (Hanrahan, Salzman and Aupperle 1991) with BF refinement. Each pair
+/// of patches that face each other is refined recursively: a link hands every point of an
+/// element the mean F to the other, so it errs by up to the spread of the unoccluded
+/// point-to-polygon factor over the element (sampled at centre, corners and the point nearest
+/// the other) times the other's radiosity. When that is below `link_epsilon` of what the link
+/// brings (F B) plus `link_floor` of the scene's mean radiosity, both ways round, or neither
+/// may be split, they are linked and the link's form factor is computed with
+/// visibility (RaycastFormFactor, both directions from one integral); otherwise the larger of
+/// the two is split into its quadtree children. The first refinement uses emission plus an
+/// ambient estimate for B, later rounds the last solution's B. The solution iterates gather (every element collects F B
+/// over its links) and push-pull (irradiance pushed down to the leaves, radiosity pulled up as area-weighted means)
+/// until it settles. The link count grows like N, not N^2.
+HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const Visibility& visibility,
+                                        const HierarchicalOptions& options);
+
+}  // namespace bounce

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+#include <algorithm>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <glm/geometric.hpp>
+
+#include "solver/visibility/visibility.h"
+
+namespace bounce {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Triangles = std::vector<K::Triangle_3>;
+using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+
+K::Point_3 to_cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
+
+class CgalVisibility final : public Visibility {
+public:
+    explicit CgalVisibility(const std::vector<Patch>& patches) {
+        fit_offset(patches);
+        for (const auto& p : patches)
+            for (int k = 1; k + 1 < p.vertex_count; ++k)
+                m_triangles.emplace_back(to_cgal(p.vertices[0]), to_cgal(p.vertices[k]), to_cgal(p.vertices[k + 1]));
+        m_tree.insert(m_triangles.cbegin(), m_triangles.cend());
+        m_tree.build();  // build now: lazy construction inside concurrent queries would race
+    }
+    bool occluded(const glm::dvec3& a, const glm::dvec3& b) const override {
+        return m_tree.do_intersect(K::Segment_3(to_cgal(a), to_cgal(b)));
+    }
+    std::string name() const override { return "cgal"; }
+
+private:
+    Triangles m_triangles;
+    Tree m_tree;
+};
+
+}  // namespace
+
+std::unique_ptr<Visibility> make_cgal_visibility(const std::vector<Patch>& patches) {
+    return std::make_unique<CgalVisibility>(patches);
+}
+
+}  // namespace bounce

@@ -1,0 +1,153 @@
+// SPDX-License-Identifier: MIT
+// Issue 7: adaptive subdivision and hierarchical radiosity against uniform meshes and the
+// full matrix.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mesh/patch_mesh.h"
+#include "mesh/scene_loader.h"
+#include "mesh/validation_scenes.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/form_factors/form_factor_matrix.h"
+#include "solver/linear/solver.h"
+#include "solver/refinement/adaptive_radiosity.h"
+#include "solver/refinement/hierarchical_radiosity.h"
+#include "solver/visibility/visibility.h"
+
+using namespace bounce;
+
+namespace {
+
+std::vector<Patch> cornell(std::size_t target, bool subdivide = true) {
+    MeshingOptions o;
+    o.target_patches = target;
+    o.subdivide = subdivide;
+    return PatchMesh(load_scene("cornell"), o).patches();
+}
+
+}  // namespace
+
+TEST(Adaptive, CornellReachesTheUniformMeshErrorWithAtLeastFourTimesFewerElements) {
+    const auto P = cornell(30);  // 60 patches
+    const auto vis = make_visibility("embree", P);
+    AdaptiveOptions o;
+    o.form_factors.visibility_rays = 16;  // less noise, so the comparison is of meshes
+    o.max_elements = 100000;
+    const AdaptiveSolution reference = solve_uniform_elements(P, *vis, 5, o);  // 61440 elements
+    const AdaptiveSolution uniform = solve_uniform_elements(P, *vis, 4, o);    // 15360 elements
+    const double target = rms_difference(uniform, reference);
+    std::size_t elements = 0;
+    double reached = 1.0;
+    o.target_error = 1e-6;  // let the rounds decide
+    for (int rounds = 6; rounds <= 16 && elements == 0; ++rounds) {
+        o.max_rounds = rounds;
+        const AdaptiveSolution a = solve_adaptive(P, *vis, o);
+        reached = rms_difference(a, reference);
+        if (reached <= target) elements = a.leaves.size();
+    }
+    std::printf("uniform: %zu elements, RMS %.4f; adaptive: %zu elements, RMS %.4f (%.1fx fewer)\n",
+                uniform.leaves.size(), target, elements, reached, double(uniform.leaves.size()) / double(elements));
+    ASSERT_GT(elements, 0u);
+    // Measured: 15360 uniform elements, RMS 0.0359; adaptive 3285 elements, RMS 0.0350 (4.7x).
+    EXPECT_GE(double(uniform.leaves.size()) / double(elements), 4.0);
+    // The error estimate tracks the error: both fall as the mesh is refined.
+    EXPECT_LT(uniform.rounds.back().rms_estimate, solve_uniform_elements(P, *vis, 2, o).rounds.back().rms_estimate);
+}
+
+TEST(Adaptive, RefinementConcentratesWhereTheRadiosityChangesAndKeepsEnergy) {
+    const auto P = cornell(30);
+    const auto vis = make_visibility("embree", P);
+    AdaptiveOptions o;
+    o.target_error = 0.05;
+    const AdaptiveSolution a = solve_adaptive(P, *vis, o);
+    ASSERT_GT(a.rounds.size(), 2u);
+    EXPECT_LE(a.rounds.back().rms_estimate, o.target_error);
+    int lo = 100, hi = 0;
+    for (const auto l : a.leaves) lo = std::min(lo, a.tree.node(l).level), hi = std::max(hi, a.tree.node(l).level);
+    EXPECT_LE(lo, 1);  // open walls stay coarse
+    EXPECT_GE(hi, 4);  // shadow edges go fine
+    // Emitted = absorbed + escaped (nothing is left unshot in a gathering solution).
+    const SolveResult& r = a.result;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR((r.absorbed_power[c] + r.escaped_power[c]) / r.emitted_power[c], 1.0, 1e-9);
+}
+
+TEST(Hierarchical, AgreesWithTheFullMatrixOnItsElementsWithinTheOracleTolerance) {
+    const auto P = cornell(30);
+    const auto vis = make_visibility("embree", P);
+    HierarchicalOptions h;
+    h.link_epsilon = 0.1;
+    h.max_level = 3;
+    const HierarchicalSolution s = solve_hierarchical(P, *vis, h);
+    ASSERT_TRUE(s.result.converged);
+    std::vector<Patch> leaves;
+    for (const auto l : s.leaves) leaves.push_back(s.tree.geometry()[l]);
+    const auto ff = make_form_factor_estimator("raycast", leaves, vis.get(), {});
+    const auto F = FormFactorMatrix::build(*ff, leaves.size(), std::size_t(1) << 31);
+    SolverOptions so;
+    so.tolerance = 1e-9;
+    const SolveResult full = make_solver("gauss-seidel", {leaves, ff.get(), &F}, so)->solve();
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = 0; i < leaves.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double d = s.result.radiosity[i][c] - full.radiosity[i][c];
+            const double reflected = full.radiosity[i][c] - leaves[i].emission[c];
+            num += leaves[i].area * d * d;
+            den += leaves[i].area * reflected * reflected;
+        }
+    const double rms = std::sqrt(num / den);
+    const double n = double(leaves.size());
+    std::printf("%zu elements, %zu links (%.1f%% of N^2): RMS difference from the full matrix %.4f\n", leaves.size(),
+                s.links, 100.0 * double(s.links) / (n * n), rms);
+    // Measured: 3144 elements, RMS 0.033 at link_epsilon 0.1: within the bound on each link.
+    EXPECT_LT(rms, 0.5 * h.link_epsilon);
+    EXPECT_LT(double(s.links), 0.2 * n * n);
+}
+
+TEST(Hierarchical, FurnaceClosedBoxGivesEOverOneMinusRho) {
+    MeshingOptions m;
+    m.subdivide = false;
+    const PatchMesh box(closed_box({1, 1.5, 2}, {"w", Rgb::gray(0.5), Rgb::gray(1)}), m);
+    const auto vis = make_visibility("embree", box.patches());
+    HierarchicalOptions h;
+    h.max_level = 3;
+    const HierarchicalSolution s = solve_hierarchical(box.patches(), *vis, h);
+    double worst = 0.0;
+    for (const auto& b : s.result.radiosity) worst = std::max(worst, std::abs(b.g - 2.0) / 2.0);
+    // Measured: 0.12% with link_epsilon 0.1 (row sums of the ray-cast links are 1 +- 2e-3).
+    EXPECT_LT(worst, 0.01);
+    EXPECT_GT(s.leaves.size(), 100u);
+}
+
+TEST(Hierarchical, LinkCountGrowsAboutLinearlyNotQuadratically) {
+    const auto P = cornell(0, false);  // the input faces
+    const auto vis = make_visibility("embree", P);
+    std::vector<double> n, links;
+    for (const int level : {3, 4, 5}) {
+        HierarchicalOptions h;
+        h.link_epsilon = 0.2;
+        h.max_level = level;
+        h.refine_rounds = 2;
+        const HierarchicalSolution s = solve_hierarchical(P, *vis, h);
+        n.push_back(double(s.leaves.size()));
+        links.push_back(double(s.links));
+        std::printf("max level %d: %zu elements, %zu links, %.2f%% of N^2\n", level, s.leaves.size(), s.links,
+                    100.0 * double(s.links) / (n.back() * n.back()));
+    }
+    // Least-squares slope of log(links) against log(N).
+    double mx = 0, my = 0;
+    for (std::size_t k = 0; k < n.size(); ++k) mx += std::log(n[k]) / 3, my += std::log(links[k]) / 3;
+    double sxy = 0, sxx = 0;
+    for (std::size_t k = 0; k < n.size(); ++k) {
+        sxy += (std::log(n[k]) - mx) * (std::log(links[k]) - my);
+        sxx += (std::log(n[k]) - mx) * (std::log(n[k]) - mx);
+    }
+    const double exponent = sxy / sxx;
+    std::printf("links ~ N^%.2f\n", exponent);
+    RecordProperty("link_exponent", std::to_string(exponent));
+    EXPECT_GT(n.back(), 8 * n.front());
+    EXPECT_LT(exponent, 1.3);
+    EXPECT_GT(exponent, 0.5);
+    EXPECT_LT(links.back(), 0.02 * n.back() * n.back());
+}
