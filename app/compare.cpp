@@ -16,6 +16,7 @@
 
 #include "app/command.h"
 #include "app/convergence_log.h"
+#include "app/point_values.h"
 #include "app/progress_line.h"
 #include "app/reference_points.h"
 #include "app/signals.h"
@@ -48,6 +49,7 @@ struct CompareCommand {
     int reference_level = 5;
     std::string reference;  // --reference: a `bounce reference` CSV; empty: probes cached in `out`
     std::vector<std::size_t> patch_counts = {250, 500, 1000, 2000, 4000, 8000};  // --meshes: uniform patch meshes
+    std::string gather = "vertices";  // point data of every run, as solve writes it
 };
 
 /// The probe columns shared by runs.csv and meshes.csv.
@@ -90,10 +92,18 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
                  double(P.size()) * std::pow(per_level, c.reference_level) * double(P.size()) * 4.0 * 2.0);
     // The truth every row is scored on: path-traced probes, computed once and cached.
     const std::vector<ReferencePoint> probes = reference_for_compare(scene, c.reference, c.out, o.quiet);
-    auto score = [&](const ElementTree& tree, const std::vector<std::uint32_t>& leaves, const std::vector<Rgb>& B) {
-        return score_at_probes(tree.conforming_mesh(leaves), B, probes);
+    // Scores a solution as solve would write it: point data gathered (the time added to the
+    // row's seconds) when the mesh is within the gather's budget.
+    auto score_mesh = [&](const PatchMesh& m, const std::vector<Rgb>& B, double& seconds) {
+        SolveResult r;
+        r.radiosity = B;
+        if (c.gather != "none" && double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs) {
+            const auto v = make_visibility(o.visibility, m.patches());
+            gather_point_values(m, *v, r, "vertices", true);
+            seconds += r.seconds;
+        }
+        return score_at_probes(m, B, probes, r.point_radiosity);
     };
-    const AdaptiveSolution reference = solve_uniform_elements(P, *visibility, c.reference_level, a);
     struct Row {
         std::string method, setting;
         std::size_t elements = 0, links = 0;
@@ -101,13 +111,19 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         ProbeScore probe;
     };
     std::vector<Row> rows;
-    rows.push_back({"reference", "uniform level " + std::to_string(c.reference_level), reference.leaves.size(), 0,
-                    reference.result.seconds, 0.0,
-                    score(reference.tree, reference.leaves, reference.result.radiosity)});
+    auto add_row = [&](std::string method, std::string setting, std::size_t links, double seconds, double rms,
+                       const PatchMesh& m, const std::vector<Rgb>& B) {
+        Row r{std::move(method), std::move(setting), m.size(), links, seconds, rms, {}};
+        r.probe = score_mesh(m, B, r.seconds);
+        rows.push_back(std::move(r));
+    };
+    const AdaptiveSolution reference = solve_uniform_elements(P, *visibility, c.reference_level, a);
+    add_row("reference", "uniform level " + std::to_string(c.reference_level), 0, reference.result.seconds, 0.0,
+            reference.tree.conforming_mesh(reference.leaves), reference.result.radiosity);
     for (int level = 0; level < c.reference_level; ++level) {
         const AdaptiveSolution u = solve_uniform_elements(P, *visibility, level, a);
-        rows.push_back({"uniform", "level " + std::to_string(level), u.leaves.size(), 0, u.result.seconds,
-                        rms_difference(u, reference), score(u.tree, u.leaves, u.result.radiosity)});
+        add_row("uniform", "level " + std::to_string(level), 0, u.result.seconds, rms_difference(u, reference),
+                u.tree.conforming_mesh(u.leaves), u.result.radiosity);
     }
     // Uniform patch meshes solved by the default path (every patch shoots), as `solve --patches N` runs.
     for (const std::size_t n : c.patch_counts) {
@@ -121,8 +137,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         SolverOptions so;
         so.cancel = &g_interrupted;
         const SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
-        rows.push_back({"patches", "--patches " + std::to_string(n), um.size(), 0, seconds_since(t0), -1.0,
-                        score_at_probes(um, r.radiosity, probes)});
+        add_row("patches", "--patches " + std::to_string(n), 0, seconds_since(t0), -1.0, um, r.radiosity);
         if (g_interrupted.load()) break;
     }
     for (const double target : {0.2, 0.1, 0.07, 0.05, 0.035}) {
@@ -131,8 +146,8 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         const AdaptiveSolution s = solve_adaptive(P, *visibility, t);
         std::ostringstream setting;
         setting << "target " << target;
-        rows.push_back({"adaptive", setting.str(), s.leaves.size(), 0, s.result.seconds, rms_difference(s, reference),
-                        score(s.tree, s.leaves, s.result.radiosity)});
+        add_row("adaptive", setting.str(), 0, s.result.seconds, rms_difference(s, reference),
+                s.tree.conforming_mesh(s.leaves), s.result.radiosity);
     }
     for (const double eps : {0.4, 0.2, 0.1}) {
         HierarchicalOptions h;
@@ -143,9 +158,9 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         const HierarchicalSolution s = solve_hierarchical(P, *visibility, h);
         std::ostringstream setting;
         setting << "link epsilon " << eps;
-        rows.push_back({"hierarchical", setting.str(), s.leaves.size(), s.links, s.result.seconds,
-                        rms_difference(s.tree, s.leaves, s.result.radiosity, reference),
-                        score(s.tree, s.leaves, s.result.radiosity)});
+        add_row("hierarchical", setting.str(), s.links, s.result.seconds,
+                rms_difference(s.tree, s.leaves, s.result.radiosity, reference), s.tree.conforming_mesh(s.leaves),
+                s.result.radiosity);
     }
     if (interrupted_exit_code()) return interrupted_exit_code();
     std::ostringstream csv;
@@ -240,7 +255,11 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
         }
     }
     std::vector<ProbeScore> scores;
-    for (const auto& r : runs) scores.push_back(score_at_probes(mesh, r.radiosity, probes));
+    for (auto& r : runs) {
+        // Point data as solve writes it: gathered at the vertices (time added to the run).
+        gather_point_values(mesh, *visibility, r, c.gather, true);
+        scores.push_back(score_at_probes(mesh, r.radiosity, probes, r.point_radiosity));
+    }
     const std::filesystem::path dir = c.out;
     write_log_csv(dir / "convergence.csv", runs, run_methods, ff_seconds);
     write_text_file(
@@ -319,6 +338,12 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
         ->add_option("--patch-counts", cmp->patch_counts,
                      "--meshes: uniform patch meshes solved by shooting, for the speed-accuracy chart")
         ->delimiter(',')
+        ->capture_default_str();
+    cmp_cmd
+        ->add_option("--gather", cmp->gather,
+                     "point data of every run: gathered at the vertices (vertices) or averaged (none); the gather's "
+                     "time is counted in the run's")
+        ->check(CLI::IsMember(std::vector<std::string>{"vertices", "none"}))
         ->capture_default_str();
     add_form_factor_options(cmp_cmd, cmp->ff);
     return {cmp_cmd, [&common, cmp] { return run_compare(common, *cmp); }};

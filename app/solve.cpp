@@ -12,6 +12,7 @@
 
 #include "app/command.h"
 #include "app/convergence_log.h"
+#include "app/point_values.h"
 #include "app/progress_line.h"
 #include "app/signals.h"
 #include "mesh/patch_mesh.h"
@@ -47,6 +48,7 @@ struct SolveCommand {
     bool adaptive = false;
     AdaptiveOptions adaptive_options;
     HierarchicalOptions hierarchical;
+    std::string gather = "vertices";  // point values: final gather at the vertices (point_values.h)
 };
 
 std::string default_output(const std::string& scene) {
@@ -104,6 +106,11 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         res.converged = res.converged && sol.rounds.back().rms_estimate <= a.target_error;
         if (!res.converged && res.status == "converged") res.status = "element budget reached";
     }
+    if (s.gather != "none" && !g_interrupted.load()) {
+        // The elements are what the file shows: gather from them, with visibility among them.
+        const auto element_visibility = make_visibility(o.visibility, elements->patches());
+        gather_point_values(*elements, *element_visibility, res, s.gather, o.quiet);
+    }
     write_vtu(out, *elements, res, {o.scene, settings.str()}, s.ascii);
     if (interrupted_exit_code()) {
         std::cerr << "bounce: interrupted; wrote the solution so far to " << out.string() << " (converged = 0)\n";
@@ -128,12 +135,18 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         throw std::invalid_argument("--elements needs the shooting solver and raycast or analytic form factors");
     CommonOptions fine = o;
     fine.meshing.element_split = s.element_split;
+    // Elements must tile their patches exactly (parents), so contact cuts go with split 1 only.
+    if (elements) fine.meshing.cut_contacts = false;
     Scene scene;
     PatchMesh mesh = load_and_mesh(fine, o.scene, scene);
     const auto& P = mesh.patches();
     const double n = double(P.size());
     std::optional<PatchMesh> shooters;  // with --elements: the patches that shoot to the elements
-    if (elements) shooters.emplace(scene, o.meshing);
+    if (elements) {
+        MeshingOptions coarse = o.meshing;
+        coarse.cut_contacts = false;
+        shooters.emplace(scene, coarse);
+    }
     check_form_factor_memory(o, s.method, s.ff);
     if (s.solver != "shooting")
         check_memory(o, "the form-factor matrix (" + std::to_string(P.size()) + " patches)", n * n * 4);
@@ -176,6 +189,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     progress.finish();
     res.form_factors = s.method;
     if (matrix) res.seconds += matrix->seconds();
+    if (s.gather != "none" && !g_interrupted.load()) gather_point_values(mesh, *visibility, res, s.gather, o.quiet);
 
     std::ostringstream settings;
     settings << "patches=" << (elements ? shooters->size() : mesh.size()) << " elements=" << mesh.size()
@@ -221,6 +235,13 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
     solve_solvers.push_back("hierarchical");
     solve_cmd->add_option("--solver", solve->solver, "shooting, gauss-seidel, jacobi, direct or hierarchical")
         ->check(CLI::IsMember(solve_solvers));
+    solve_cmd
+        ->add_option("--gather", solve->gather,
+                     "point data: gathered at the vertices from the solved patches with the exact kernel and "
+                     "visibility (vertices), also at the patch centres as cell array radiosity_gathered (centres), "
+                     "or averaged from the patches around each vertex (none)")
+        ->check(CLI::IsMember(gather_modes()))
+        ->capture_default_str();
     solve_cmd->add_flag("--adaptive", solve->adaptive,
                         "adaptive subdivision: patches (150 unless meshing is given) refined into elements where the "
                         "radiosity varies");

@@ -34,12 +34,20 @@ struct Surface {
     SourceLocation where;
 };
 
+/// A convex polygon in the plane of surface `surface` that no light can reach: another object
+/// rests on it or is mounted flush in front of it (mesh/contact_cuts.h). The mesher leaves it out.
+struct CoveredRegion {
+    int surface = -1;
+    std::vector<glm::dvec3> polygon;  // convex, counter-clockwise seen from the surface's front
+};
+
 /// A scene as read from its source: polygons with materials. Surfaces are one-sided.
 struct Scene {
     std::string name;
     std::vector<Material> materials;
     std::vector<Surface> surfaces;
     std::vector<std::string> warnings;  // problems that were repaired, to show the user
+    std::vector<CoveredRegion> covered;  // found by load_scene; empty: mesh every surface whole
 
     /// Checks reflectance in [0,1], emission >= 0 and finite coordinates; throws InputError
     /// naming the material or surface. Does not look at the geometry of faces (see

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "mesh/contact_cuts.h"
 #include "mesh/cornell_box.h"
 #include "mesh/geometry_check.h"
 #include "mesh/input_error.h"
@@ -29,6 +30,7 @@ Scene load_scene(const std::string& spec) {
     }
     scene.validate();
     check_geometry(scene, spec);
+    scene.covered = find_covered_regions(scene);
     return scene;
 }
 

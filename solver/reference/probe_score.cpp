@@ -85,9 +85,11 @@ Rgb interpolate(const PatchMesh& mesh, std::size_t i, const glm::dvec3& x, const
 }  // namespace
 
 ProbeScore score_at_probes(const PatchMesh& mesh, std::span<const Rgb> patch_radiosity,
-                           std::span<const ReferencePoint> reference) {
+                           std::span<const ReferencePoint> reference, std::span<const Rgb> point_values) {
     ProbeScore s;
-    const auto at_vertex = vertex_radiosity(mesh, patch_radiosity);
+    const auto at_vertex = point_values.size() == mesh.mesh().n_vertices()
+                               ? std::vector<Rgb>(point_values.begin(), point_values.end())
+                               : vertex_radiosity(mesh, patch_radiosity);
     // Scene size from the patches' extent, for the on-plane tolerance.
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const auto& p : mesh.patches())
