@@ -61,6 +61,20 @@ TEST(Cli, SolvesTheCornellBoxAndWritesAVtu) {
     EXPECT_EQ(q.err, "");
 }
 
+TEST(Cli, TheDefaultRunIsQuietOnStderrAndPassesStrict) {
+    // A new user's first command: nothing on stderr (no warning about the built-in scene),
+    // stdout the summary and the `wrote` line; --strict accepts the built-in box.
+    test::TempDir dir;
+    const auto r = bounce_run("solve -o " + (dir / "cornell.vtu").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_EQ(lines(r.out), 2) << r.out;
+    EXPECT_NE(r.out.find("wrote " + (dir / "cornell.vtu").string()), std::string::npos) << r.out;
+    const auto strict = bounce_run("solve --strict --max-area 4000 -o " + (dir / "strict.vtu").string());
+    EXPECT_EQ(strict.exit_code, 0) << strict.err;
+    EXPECT_EQ(strict.err, "");
+}
+
 TEST(Cli, SolvesTheObjFixtureAndReportsInfo) {
     test::TempDir dir;
     const auto r = bounce_run("solve " + test::fixture("cornell_box.obj").string() + " --max-area 4000 -o " +
