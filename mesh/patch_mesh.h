@@ -23,6 +23,10 @@ struct MeshingOptions {
     int element_split = 1;          // cut every patch into split x split elements (see PatchMesh::parents)
 };
 
+/// How many patches (elements, with element_split) PatchMesh(scene, options) would make,
+/// without making them: for estimates and warnings before a large meshing.
+double planned_patches(const Scene& scene, const MeshingOptions& options);
+
 struct PatchMeshTraits : OpenMesh::DefaultTraits {
     using Point = OpenMesh::Vec3d;
     using Normal = OpenMesh::Vec3d;
