@@ -54,6 +54,11 @@ std::string default_output(const std::string& scene) {
     return std::filesystem::path(scene).stem().string() + ".vtu";
 }
 
+/// What the written file says, so the message after a signal cannot contradict it.
+std::string file_status(const SolveResult& res) {
+    return "status = " + res.status + ", converged = " + (res.converged ? "1" : "0");
+}
+
 /// --adaptive and --solver hierarchical: quadtree elements over the patches, exported as a
 /// conforming mesh of the leaves.
 int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std::filesystem::path& out) {
@@ -106,7 +111,8 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     }
     write_vtu(out, *elements, res, {o.scene, settings.str()}, s.ascii);
     if (interrupted_exit_code()) {
-        std::cerr << "bounce: interrupted; wrote the solution so far to " << out.string() << " (converged = 0)\n";
+        std::cerr << "bounce: interrupted; wrote the solution so far to " << out.string() << " (" << file_status(res)
+                  << ")\n";
         return interrupted_exit_code();
     }
     if (!s.png.empty()) render_solution(*elements, res, {o.scene, settings.str()}, s.png, s.render);
@@ -186,7 +192,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     write_vtu(out, mesh, res, {o.scene, settings.str()}, s.ascii);
     if (interrupted_exit_code()) {
         std::cerr << "bounce: interrupted after " << res.steps << " steps; wrote the solution so far to "
-                  << out.string() << " (converged = 0)\n";
+                  << out.string() << " (" << file_status(res) << ")\n";
         return interrupted_exit_code();
     }
     if (series) series->finish(res);

@@ -2,7 +2,9 @@
 // The real program, run as a user runs it.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include "test_util.h"
 
@@ -17,6 +19,18 @@ test::RunResult bounce_run(const std::string& args) { return test::run(kExe + " 
 std::string slurp(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// A text field of an ASCII .vtu: VTK writes char and string arrays alike as the codes of
+/// their bytes (strings end in 0).
+std::string ascii_field_text(const std::string& vtu, const std::string& name) {
+    const auto at = vtu.find("Name=\"" + name + "\"");
+    if (at == std::string::npos) return "<no field " + name + ">";
+    std::istringstream in(vtu.substr(vtu.find('>', at) + 1));
+    std::string text;
+    int code = 0;
+    while (in >> code && code != 0) text += char(code);
+    return text;
 }
 
 int lines(const std::string& s) {
@@ -266,6 +280,29 @@ TEST(Cli, InterruptWritesTheSolutionSoFarMarkedNotConverged) {
         EXPECT_NE(vtu.find("</VTKFile>"), std::string::npos) << "complete XML";
         EXPECT_TRUE(no_temporaries(dir.path()));
     }
+}
+
+TEST(Cli, InterruptingTheDirectSolverActsWithinTwoSecondsAndTheFileSaysSo) {
+    // 4000 patches, analytic form factors (the matrix takes a few seconds), then an LU of
+    // about 20 s; the signal comes at 6 s, inside the factorisation. The shell prints the
+    // times of the signal and of the exit in nanoseconds.
+    test::TempDir dir;
+    const auto out = dir / "direct.vtu";
+    const auto r = test::run("sh -c '" + kExe + " solve --solver direct --form-factors analytic --patches 4000 -q --ascii -o " +
+                             out.string() +
+                             " & pid=$!; sleep 6; date +%s%N; kill -INT $pid; wait $pid; code=$?; date +%s%N; exit $code'");
+    EXPECT_EQ(r.exit_code, 130) << r.err;
+    std::istringstream times(r.out);
+    long long sent = 0, done = 0;
+    ASSERT_TRUE(times >> sent >> done) << r.out;
+    const double seconds = double(done - sent) * 1e-9;
+    std::printf("direct solver, 4000 patches: exit %.3f s after SIGINT\n", seconds);
+    EXPECT_LT(seconds, 2.0);
+    EXPECT_NE(r.err.find("status = interrupted, converged = 0"), std::string::npos) << r.err;
+    if (std::filesystem::exists(out)) {
+        EXPECT_EQ(ascii_field_text(slurp(out), "status"), "interrupted");
+    }
+    EXPECT_TRUE(no_temporaries(dir.path()));
 }
 
 TEST(Cli, ASecondSignalExitsAtOnceWithoutAPartialFile) {
