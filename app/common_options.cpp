@@ -12,6 +12,7 @@
 #include "mesh/input_error.h"
 #include "mesh/scene_loader.h"
 #include "solver/form_factors/form_factor_matrix.h"
+#include "solver/linear/winding_check.h"
 
 namespace bounce::app {
 
@@ -41,6 +42,8 @@ constexpr std::size_t kBytesPerPatch = 1024;  // Patch, OpenMesh face and vertic
 
 PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& scene) {
     scene = load_scene(spec);
+    if (o.flip)
+        for (auto& surface : scene.surfaces) std::reverse(surface.vertices.begin(), surface.vertices.end());
     if (o.strict && !scene.warnings.empty()) throw InputError(scene.warnings.front() + " (--strict)");
     print_warnings(scene, o.quiet);
     MeshingOptions m = o.meshing;
@@ -51,6 +54,25 @@ PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& 
 bool default_meshing(const CommonOptions& o) {
     return o.meshing.max_area == 0 && o.meshing.max_edge == 0 &&
            o.meshing.target_patches == MeshingOptions{}.target_patches;
+}
+
+bool warn_about_winding(const CommonOptions& o, const Scene& scene, const std::vector<Patch>& patches,
+                        const SolveResult& result) {
+    if (o.quiet) return false;
+    const WindingReport w = check_winding(patches, result);
+    if (!w.suspicious()) return false;
+    auto name = [&](int s) { return describe(scene.surfaces[s].where, scene.surfaces[s].object); };
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "warning: orientation: " << 100.0 * w.escaped_fraction << "% of the emitted power escapes";
+    for (const int s : w.dark_emitters) msg << "; the emitter " << name(s) << " reaches no surface";
+    msg << "; with every face turned round, " << 100.0 * w.reach_turned << "% of the emitters' first bounce would land"
+        << " on the scene instead of " << 100.0 * w.reach_as_wound
+        << "%. Faces seem wound clockwise seen from their front; likely:";
+    for (std::size_t k = 0; k < w.likely_faces.size(); ++k) msg << (k ? ", " : " ") << name(w.likely_faces[k]);
+    msg << ". --flip turns every face (in JSON, \"flip\": true on an object)";
+    std::cerr << msg.str() << "\n";
+    return true;
 }
 
 void check_memory(const CommonOptions& o, const std::string& what, double bytes) {
@@ -98,6 +120,8 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
         "treat every warning about the input (materials, degenerate, non-planar or crossing faces) as an error");
     cmd->add_flag(
         "--no-subdivide", [&o](std::int64_t) { o.meshing.subdivide = false; }, "one patch per input face");
+    cmd->add_flag("--flip", o.flip,
+                  "turn every face round (for scenes wound clockwise seen from the front, which light from the back)");
     cmd->add_flag("-q,--quiet", o.quiet, "no progress line, no warnings");
     cmd->add_option("--threads", o.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--visibility", o.visibility, "visibility backend for shadow rays (default: embree)")

@@ -109,6 +109,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         res.converged = res.converged && sol.rounds.back().rms_estimate <= a.target_error;
         if (!res.converged && res.status == "converged") res.status = "element budget reached";
     }
+    if (!interrupted_exit_code()) warn_about_winding(o, scene, elements->patches(), res);
     write_vtu(out, *elements, res, {o.scene, settings.str()}, s.ascii);
     if (interrupted_exit_code()) {
         std::cerr << "bounce: interrupted; wrote the solution so far to " << out.string() << " (" << file_status(res)
@@ -188,7 +189,8 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
              << " edge=" << mesh.edge_length() << " solver=" << s.solver << " sor=" << s.options.sor
              << " method=" << s.method << " rays=" << s.ff.visibility_rays
              << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
-             << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance;
+             << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance << (o.flip ? " flip=1" : "");
+    if (!interrupted_exit_code()) warn_about_winding(o, scene, P, res);
     write_vtu(out, mesh, res, {o.scene, settings.str()}, s.ascii);
     if (interrupted_exit_code()) {
         std::cerr << "bounce: interrupted after " << res.steps << " steps; wrote the solution so far to "

@@ -2,8 +2,11 @@
 // The real program, run as a user runs it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "test_util.h"
@@ -31,6 +34,19 @@ std::string ascii_field_text(const std::string& vtu, const std::string& name) {
     int code = 0;
     while (in >> code && code != 0) text += char(code);
     return text;
+}
+
+/// The values of a cell array of an ASCII .vtu, in order.
+std::vector<double> ascii_cell_array(const std::string& vtu, const std::string& name) {
+    const auto cells = vtu.find("<CellData");
+    const auto at = vtu.find("Name=\"" + name + "\"", cells);
+    std::vector<double> v;
+    if (cells == std::string::npos || at == std::string::npos) return v;
+    const auto begin = vtu.find('>', at) + 1;
+    std::istringstream in(vtu.substr(begin, vtu.find('<', begin) - begin));
+    double x;
+    while (in >> x) v.push_back(x);
+    return v;
 }
 
 int lines(const std::string& s) {
@@ -419,4 +435,62 @@ TEST(Cli, CompareMeshesWritesRowsForEveryMethodAgainstOneReference) {
         EXPECT_LT(rms, last);
         last = rms;
     }
+}
+
+TEST(Cli, FacesWoundTheWrongWayAreReportedAndFlipTurnsThemBack) {
+    // A closed 4 x 3 x 4 room lit by a lamp under the ceiling, and the same file with every
+    // face's vertices reversed (the most common OBJ mistake).
+    test::TempDir dir;
+    dir.write("room.mtl", "newmtl white\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.6 0.1 0.1\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
+    const std::string vertices =
+        "mtllib room.mtl\nv 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nv 0 3 0\nv 4 3 0\nv 4 3 4\nv 0 3 4\n"
+        "v 1.5 2.99 1.5\nv 2.5 2.99 1.5\nv 2.5 2.99 2.5\nv 1.5 2.99 2.5\n";
+    const std::vector<std::string> faces = {"usemtl white", "f 1 4 3 2", "f 5 6 7 8", "f 1 2 6 5", "f 4 8 7 3",
+                                            "f 2 3 7 6",    "usemtl red", "f 1 5 8 4", "usemtl lamp", "f 9 10 11 12"};
+    std::string right = vertices, wrong = vertices;
+    for (const auto& f : faces) {
+        right += f + "\n";
+        if (f[0] != 'f') {
+            wrong += f + "\n";
+            continue;
+        }
+        std::istringstream in(f.substr(2));
+        std::vector<std::string> idx{std::istream_iterator<std::string>(in), {}};
+        wrong += "f";
+        for (auto it = idx.rbegin(); it != idx.rend(); ++it) wrong += " " + *it;
+        wrong += "\n";
+    }
+    const auto run = [&](const std::string& file, const std::string& text, const std::string& flags) {
+        const auto scene = dir.write(file, text);
+        const auto out = dir / (file + std::to_string(flags.size()) + ".vtu");
+        auto r = bounce_run("solve " + scene.string() + " --patches 300 --ascii " + flags + " -o " + out.string());
+        return std::pair{r, ascii_cell_array(slurp(out), "radiosity")};
+    };
+    const auto [ok, b_right] = run("room.obj", right, "");
+    ASSERT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_EQ(ok.err.find("orientation"), std::string::npos) << ok.err;
+    const auto [bad, b_wrong] = run("reversed.obj", wrong, "");
+    EXPECT_EQ(bad.exit_code, 0) << bad.err;
+    EXPECT_EQ(lines(bad.err), 1) << bad.err;
+    EXPECT_NE(bad.err.find("orientation"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("100% of the emitted power escapes"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("reversed.obj:23 (default) reaches no surface"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("--flip"), std::string::npos) << bad.err;
+    const auto [flipped, b_flipped] = run("reversed.obj", wrong, "--flip");
+    EXPECT_EQ(flipped.exit_code, 0) << flipped.err;
+    EXPECT_EQ(flipped.err.find("orientation"), std::string::npos) << flipped.err;
+    ASSERT_EQ(b_right.size(), b_flipped.size());
+    ASSERT_EQ(b_right.size(), b_wrong.size());
+    ASSERT_GT(b_right.size(), 300u * 3 / 2);
+    double worst = 0.0, lit_right = 0.0, lit_wrong = 0.0;
+    for (std::size_t k = 0; k < b_right.size(); ++k) {
+        worst = std::max(worst, std::abs(b_right[k] - b_flipped[k]) / std::max(1e-12, std::abs(b_right[k])));
+        if (b_wrong[k] == 10.0) continue;  // the lamp, E = 10
+        lit_right += b_right[k];
+        lit_wrong += b_wrong[k];
+    }
+    EXPECT_LT(worst, 1e-9);
+    // As wound wrongly, the walls get nothing at all; wound right, they are lit.
+    EXPECT_EQ(lit_wrong, 0.0);
+    EXPECT_GT(lit_right, 10.0);
 }
