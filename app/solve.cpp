@@ -169,12 +169,22 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     so.progress = [&](const SolveProgress& p) { progress.update(p); };
     so.max_matrix_mb = s.max_matrix_mb;
     so.cancel = &g_interrupted;
+    std::ostringstream settings;
+    settings << "patches=" << (elements ? shooters->size() : mesh.size()) << " elements=" << mesh.size()
+             << " edge=" << mesh.edge_length() << " solver=" << s.solver << " sor=" << s.options.sor
+             << " method=" << s.method << " rays=" << s.ff.visibility_rays
+             << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
+             << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance << (o.flip ? " flip=1" : "");
     std::optional<SeriesWriter> series;
-    const ExportInfo info{o.scene, ""};
     if (s.series > 0) {
-        series.emplace(std::filesystem::path(out).replace_extension(".pvd"), mesh, info);
+        series.emplace(std::filesystem::path(out).replace_extension(".pvd"), mesh, ExportInfo{o.scene, settings.str()});
         so.snapshot_every = s.series;
-        so.snapshot = [&](std::size_t step, const std::vector<Rgb>& B) { series->add(step, B); };
+        so.snapshot = [&](const SolveResult& so_far) {
+            SolveResult snap = so_far;
+            snap.form_factors = s.method;
+            if (matrix) snap.seconds += matrix->seconds();  // as the final file counts them
+            series->add(snap);
+        };
     }
     const auto solver = elements ? std::make_unique<ShootingSolver>(
                                        P, *ff, so, nullptr, ElementHierarchy{&shooters->patches(), &mesh.parents()})
@@ -184,12 +194,6 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     res.form_factors = s.method;
     if (matrix) res.seconds += matrix->seconds();
 
-    std::ostringstream settings;
-    settings << "patches=" << (elements ? shooters->size() : mesh.size()) << " elements=" << mesh.size()
-             << " edge=" << mesh.edge_length() << " solver=" << s.solver << " sor=" << s.options.sor
-             << " method=" << s.method << " rays=" << s.ff.visibility_rays
-             << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
-             << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance << (o.flip ? " flip=1" : "");
     if (!interrupted_exit_code()) warn_about_winding(o, scene, P, res);
     write_vtu(out, mesh, res, {o.scene, settings.str()}, s.ascii);
     if (interrupted_exit_code()) {

@@ -85,6 +85,20 @@ SolveResult GatheringSolver::solve() {
         if (m_options.progress) m_options.progress({step, max_sweeps, residual, m_options.tolerance, r.seconds});
     };
 
+    // A snapshot carries its own energy account (O(N^2), like a sweep) and the seconds so far.
+    const bool snapshots = m_options.snapshot && m_options.snapshot_every;
+    auto snapshot = [&](std::size_t step, const std::vector<Rgb>& b, double residual) {
+        SolveResult snap;
+        snap.solver = res.solver;
+        snap.status = "running";
+        snap.steps = step;
+        snap.residual = residual;
+        snap.radiosity = b;
+        account(P, m_F, snap);
+        snap.seconds = seconds_since(t0);
+        m_options.snapshot(snap);
+    };
+    if (snapshots) snapshot(0, B, -1.0);
     std::vector<Rgb> old(n);
     for (std::size_t sweep = 1; sweep <= max_sweeps; ++sweep) {
         // One pass over F gives the update and the residual of the iterate before it.
@@ -138,8 +152,7 @@ SolveResult GatheringSolver::solve() {
         }
         const double residual = std::sqrt(r2) / e_norm;
         log(sweep - 1, residual, old);
-        if (m_options.snapshot && m_options.snapshot_every && sweep % m_options.snapshot_every == 0)
-            m_options.snapshot(sweep, B);
+        if (snapshots && sweep % m_options.snapshot_every == 0) snapshot(sweep, B, -1.0);
         res.steps = sweep;
         res.residual = residual;
         if (first < 0) first = residual;
