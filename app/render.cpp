@@ -2,10 +2,12 @@
 // bounce render: a .vtu (or a scene, solved first) to a PNG.
 #include "app/render.h"
 
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 
 #include "app/command.h"
+#include "mesh/input_error.h"
 #include "mesh/patch_mesh.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/shooting_solver.h"
@@ -20,6 +22,14 @@ bool is_vtu(const std::string& p) { return std::filesystem::path(p).extension() 
 
 int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive) {
     if (!interactive) check_output(r.output);
+    // A window nobody can see never closes: without a display, say so at once (exit 2)
+    // instead of opening it on a private Xvfb. With --exit-after (demos, tests) it closes by
+    // itself, so the private Xvfb is harmless there.
+    const char* display = std::getenv("DISPLAY");
+    if (interactive && !(display && *display) && !(r.exit_after > 0))
+        throw InputError(
+            "view: no display, DISPLAY is unset (expected an X display for the window; "
+            "bounce render IN -o OUT.png draws a picture without one)");
     if (is_vtu(r.input)) {
         interactive ? view_vtu(r.input, r.render, r.exit_after) : render_vtu(r.input, r.output, r.render);
         return 0;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -493,4 +494,15 @@ TEST(Cli, FacesWoundTheWrongWayAreReportedAndFlipTurnsThemBack) {
     // As wound wrongly, the walls get nothing at all; wound right, they are lit.
     EXPECT_EQ(lit_wrong, 0.0);
     EXPECT_GT(lit_right, 10.0);
+}
+
+TEST(Cli, ViewWithoutADisplayIsAClearErrorAtOnce) {
+    // Before: an invisible window on a private Xvfb, and a hang with no message.
+    const auto start = std::chrono::steady_clock::now();
+    const auto r = test::run("env -u DISPLAY timeout 10 " + kExe + " view " + test::fixture("cornell_box.obj").string());
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_LT(seconds, 2.0);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("error: view: no display, DISPLAY is unset"), std::string::npos) << r.err;
 }
