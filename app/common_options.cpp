@@ -36,7 +36,9 @@ void print_warnings(const Scene& scene, bool quiet) {
 }
 
 // Memory estimates, checked before the allocation they stand for.
-constexpr std::size_t kBytesPerPatch = 1024;  // Patch, OpenMesh face and vertices, AABB triangles, solver vectors
+constexpr std::size_t kBytesPerPatch = 1024;
+constexpr double kManyPatches = 50000;  // above this, say how many patches before meshing  // Patch, OpenMesh face and
+                                        // vertices, AABB triangles, solver vectors
 
 }  // namespace
 
@@ -48,6 +50,12 @@ PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& 
     print_warnings(scene, o.quiet);
     MeshingOptions m = o.meshing;
     m.max_patches = std::min(m.max_patches, (o.max_memory_mb << 20) / kBytesPerPatch);
+    // Say what a large meshing will cost before making it (refusals come from PatchMesh).
+    const double planned = planned_patches(scene, m);
+    if (!o.quiet && planned > kManyPatches && planned <= double(m.max_patches))
+        std::cerr << "note: meshing into " << std::size_t(planned) << " patches (about "
+                  << std::size_t(planned * kBytesPerPatch / double(1 << 20))
+                  << " MB for the mesh alone; a shooting solve grows like N^1.9, 47 s at 16k patches)\n";
     return PatchMesh(scene, m);
 }
 
@@ -129,14 +137,15 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
 }
 
 void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
-    cmd->add_option("--rays", f.visibility_rays, "visibility rays per patch pair (raycast)")
+    cmd->add_option("--rays", f.visibility_rays, "visibility rays per patch pair (raycast; 4)")
         ->check(CLI::Range(1, 4096));
-    cmd->add_option("--receiver-samples", f.receiver_samples, "points per side of each receiver (raycast); 0: adaptive")
+    cmd->add_option("--receiver-samples", f.receiver_samples,
+                    "points per side of each receiver (raycast); 0: adaptive (0)")
         ->check(CLI::Range(0, 16));
-    cmd->add_option("--hemicube-res", f.hemicube_resolution, "hemicube pixels per side (even)")
+    cmd->add_option("--hemicube-res", f.hemicube_resolution, "hemicube pixels per side, even (256)")
         ->check(CLI::Range(2, 4096));
-    cmd->add_flag("--hemicube-jitter", f.hemicube_jitter, "rotate each hemicube randomly about the normal");
-    cmd->add_option("--seed", f.seed, "seed of the rays and rotations");
+    cmd->add_flag("--hemicube-jitter", f.hemicube_jitter, "rotate each hemicube randomly about the normal (off)");
+    cmd->add_option("--seed", f.seed, "seed of the rays and rotations (1)");
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& r) {

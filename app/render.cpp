@@ -21,7 +21,10 @@ bool is_vtu(const std::string& p) { return std::filesystem::path(p).extension() 
 }  // namespace
 
 int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive) {
-    if (!interactive) check_output(r.output);
+    if (!interactive) {
+        check_output(r.output);
+        check_picture_path(r.output);
+    }
     // A window nobody can see never closes: without a display, say so at once (exit 2)
     // instead of opening it on a private Xvfb. With --exit-after (demos, tests) it closes by
     // itself, so the private Xvfb is harmless there.
@@ -46,9 +49,9 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
 
 Command add_render_command(CLI::App& app, CommonOptions& common) {
     auto rc = std::make_shared<RenderCommand>();
-    auto* render_cmd = app.add_subcommand("render", "render a .vtu (or a scene, solved first) to a PNG");
+    auto* render_cmd = app.add_subcommand("render", "render a .vtu (or a scene, solved first) to a PNG or JPEG");
     render_cmd->add_option("input", rc->input, "IN.vtu, or a scene")->required();
-    render_cmd->add_option("-o,--output", rc->output, "output PNG")->required();
+    render_cmd->add_option("-o,--output", rc->output, "output picture: .png, or .jpg/.jpeg for JPEG")->required();
     add_render_options(render_cmd, rc->render);
     add_meshing_options_no_scene(render_cmd, common);
     return {render_cmd, [&common, rc] { return run_render(common, *rc, false); }};

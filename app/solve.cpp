@@ -127,6 +127,10 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
 int run_solve(const CommonOptions& o, const SolveCommand& s) {
     const std::filesystem::path out = s.output.empty() ? default_output(o.scene) : s.output;
     check_output(out);
+    if (!s.png.empty()) {
+        check_output(s.png);
+        check_picture_path(s.png);
+    }
     if (s.adaptive || s.solver == "hierarchical") return run_solve_elements(o, s, out);
     if (!s.log_csv.empty()) check_output(s.log_csv);
 
@@ -269,7 +273,7 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
     solve_cmd->add_option(
         "--cache-mb", solve->options.cache_mb,
         "shooting: memory for cached form-factor rows (MB, default 1024); rows beyond it are recomputed");
-    solve_cmd->add_option("--max-matrix-mb", solve->max_matrix_mb, "refuse a matrix larger than this (MB)");
+    solve_cmd->add_option("--max-matrix-mb", solve->max_matrix_mb, "refuse a matrix larger than this (MB; 2048)");
     solve_cmd->add_option("--form-factors", solve->method, "raycast, hemicube, or analytic (no occlusion)")
         ->check(CLI::IsMember(form_factor_methods()));
     add_form_factor_options(solve_cmd, solve->ff);

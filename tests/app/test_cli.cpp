@@ -155,7 +155,7 @@ TEST(Cli, BadInputGivesOneLineExitTwoAndNoOutput) {
         {dir.write("zero.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").string(), "empty scene"},
         {dir.write("binary.obj", std::string("v 1 2 3\n\0\0\xff", 11)).string(), "binary"},
         {dir.path().string() + "/sub.obj", "directory"},
-        {dir.write("scene.stl", "solid x\n").string(), "unknown scene type"},
+        {dir.write("scene.stl", "solid x\n").string(), "unknown scene type, got '.stl'"},
         {dir.write("key.json", R"({"objects": [{"type": "quad", "size": 2}]})").string(), "unknown key 'size'"},
         {dir.write("syntax.json", "{\"objects\": [\n").string(), "syntax.json"},
         {dir.write("dark.json", R"({"objects": [{"type": "box", "inward": true}]})").string(), "emits no light"},
@@ -505,4 +505,50 @@ TEST(Cli, ViewWithoutADisplayIsAClearErrorAtOnce) {
     EXPECT_LT(seconds, 2.0);
     EXPECT_EQ(lines(r.err), 1) << r.err;
     EXPECT_NE(r.err.find("error: view: no display, DISPLAY is unset"), std::string::npos) << r.err;
+}
+
+TEST(Cli, TheFirstHourPapercuts) {
+    test::TempDir dir;
+    // An unknown command names itself and lists the real ones.
+    const auto unknown = bounce_run("frobnicate");
+    EXPECT_EQ(unknown.exit_code, 2);
+    EXPECT_EQ(lines(unknown.err), 1) << unknown.err;
+    EXPECT_NE(unknown.err.find("error: command line: unknown command, got 'frobnicate' (expected one of solve, "
+                               "form-factors, compare, render, view, info, reference"),
+              std::string::npos)
+        << unknown.err;
+    // --help shows the defaults of the form-factor options.
+    const auto help = bounce_run("solve --help");
+    for (const std::string d : {"pair (raycast; 4)", "adaptive (0)", "even (256)", "rotations (1)", "(MB; 2048)"})
+        EXPECT_NE(help.out.find(d), std::string::npos) << d;
+    // .off given directly loads (white 0.5, with a warning: the format has no materials).
+    const auto off = dir.write("tri.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+    const auto info = bounce_run("info " + off.string() + " --patches 100");
+    EXPECT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_NE(info.out.find("surfaces:       2"), std::string::npos) << info.out;
+    EXPECT_NE(info.err.find("no material"), std::string::npos) << info.err;
+    // info lists the surfaces, each with its material and where it came from: the built-in
+    // box's red wall is two lines (two triangles).
+    const auto box = bounce_run("info --max-area 4000");
+    EXPECT_EQ(box.exit_code, 0) << box.err;
+    int red = 0;
+    for (std::size_t at = 0; (at = box.out.find("  red  cornell box: red wall", at)) != std::string::npos; ++at) ++red;
+    EXPECT_EQ(red, 2) << box.out;
+    EXPECT_NE(box.out.find("light (emits (17, 12, 4))  cornell box: light"), std::string::npos) << box.out;
+    // A large meshing is announced before it is made.
+    const auto many = bounce_run("info --max-area 20");
+    EXPECT_EQ(many.exit_code, 0) << many.err;
+    EXPECT_NE(many.err.find("note: meshing into 9"), std::string::npos) << many.err;
+    // render -o x.jpg writes JPEG bytes; an unknown picture format is refused before work.
+    const auto vtu = dir / "small.vtu";
+    ASSERT_EQ(bounce_run("solve -q --max-area 8000 -o " + vtu.string()).exit_code, 0);
+    const auto jpg = bounce_run("render " + vtu.string() + " -o " + (dir / "x.jpg").string() + " --size 64x64");
+    EXPECT_EQ(jpg.exit_code, 0) << jpg.err;
+    const std::string bytes = slurp(dir / "x.jpg");
+    ASSERT_GE(bytes.size(), 3u);
+    EXPECT_EQ(bytes.substr(0, 3), std::string("\xff\xd8\xff"));
+    const auto bmp = bounce_run("render " + vtu.string() + " -o " + (dir / "x.bmp").string());
+    EXPECT_EQ(bmp.exit_code, 2);
+    EXPECT_NE(bmp.err.find("picture format, got '.bmp' (expected .png, .jpg or .jpeg)"), std::string::npos) << bmp.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.bmp"));
 }
