@@ -419,20 +419,22 @@ TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
 
 TEST(Cli, CompareMeshesWritesRowsForEveryMethodAgainstOneReference) {
     test::TempDir dir;
-    const auto r = bounce_run("compare --meshes --reference-level 3 --out " + dir.path().string());
+    const auto r = bounce_run("compare --meshes --reference-level 3 --patch-counts 250 --out " + dir.path().string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string csv = slurp(dir / "meshes.csv");
-    EXPECT_EQ(csv.rfind("method,setting,elements,links,seconds,rms_error\n", 0), 0u);
-    for (const char* method : {"\nreference,", "\nuniform,", "\nadaptive,", "\nhierarchical,"})
+    EXPECT_EQ(csv.rfind("method,setting,elements,links,seconds,rms_error,probe_rms_patch,", 0), 0u);
+    for (const char* method : {"\nreference,", "\nuniform,", "\npatches,", "\nadaptive,", "\nhierarchical,"})
         EXPECT_NE(csv.find(method), std::string::npos) << method;
-    EXPECT_EQ(lines(csv), 1 + 1 + 3 + 5 + 3);
+    EXPECT_EQ(lines(csv), 1 + 1 + 3 + 1 + 5 + 3);
     EXPECT_TRUE(std::filesystem::exists(dir / "meshes.png"));
     // Uniform refinement gets closer to the reference at every level.
     double last = 1e9;
     std::size_t at = 0;
     while ((at = csv.find("\nuniform,", at + 1)) != std::string::npos) {
-        const auto end = csv.find('\n', at + 1);
-        const double rms = std::stod(csv.substr(csv.rfind(',', end) + 1, end - csv.rfind(',', end) - 1));
+        // rms_error: the sixth column.
+        std::size_t field = at + 1;
+        for (int k = 0; k < 5; ++k) field = csv.find(',', field) + 1;
+        const double rms = std::stod(csv.substr(field, csv.find(',', field) - field));
         EXPECT_LT(rms, last);
         last = rms;
     }
