@@ -47,7 +47,16 @@ std::string Patch::to_string() const {
     return s.str();
 }
 
-PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
+namespace {
+
+/// Every surface's pieces and their grids, planned before anything is allocated.
+struct MeshPlan {
+    std::vector<std::pair<int, Piece>> pieces;  // surface index, piece
+    double patches = 0.0;                       // in all, with the element split
+    double edge = 0.0;                          // edge length used for quads
+};
+
+MeshPlan plan_mesh(const Scene& scene, const MeshingOptions& options) {
     double total = 0.0;
     for (const auto& s : scene.surfaces) total += polygon_area(s.vertices);
     if (!(options.max_area >= 0) || !(options.max_edge >= 0))
@@ -59,24 +68,35 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     if (max_area > 0) h = std::sqrt(max_area);
     if (options.max_edge > 0) h = h > 0 ? std::min(h, options.max_edge) : options.max_edge;
     if (!options.subdivide) h = 0.0;
-    m_edge = h;
+    MeshPlan plan;
+    plan.edge = h;
 
-    // Plan every piece first, so an absurd request is refused before anything is allocated.
-    std::vector<std::pair<int, Piece>> pieces;
-    double planned = 0.0;
     for (std::size_t si = 0; si < scene.surfaces.size(); ++si) {
         const auto& poly = scene.surfaces[si].vertices;
         auto add_triangle = [&](const V& a, const V& b, const V& c) {
-            const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-            Piece p{{a, b, c}, cuts(longest, h), 0};
-            planned += double(p.nu) * p.nu;
-            pieces.emplace_back(int(si), std::move(p));
+            // A triangle cut k x k gives k^2 similar triangles of area A / k^2, so the area
+            // limit asks k = sqrt(A / max_area). (Cutting by the edge h = sqrt(max_area), as
+            // quads are, gave a right triangle of area 1 four times its budget: its longest
+            // edge is 2 sqrt(A).) --max-edge is a limit on every edge. The sub-triangles are
+            // similar to the face, so no choice of k would change a sliver's aspect.
+            int k = 1;
+            if (options.subdivide) {
+                const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+                if (max_area > 0) {
+                    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+                    k = std::max(k, cuts(std::sqrt(area), std::sqrt(max_area)));
+                }
+                if (options.max_edge > 0) k = std::max(k, cuts(longest, options.max_edge));
+            }
+            Piece p{{a, b, c}, k, 0};
+            plan.patches += double(p.nu) * p.nu;
+            plan.pieces.emplace_back(int(si), std::move(p));
         };
         if (poly.size() == 4 && convex_quad(poly)) {
             Piece p{poly, cuts(std::max(glm::length(poly[1] - poly[0]), glm::length(poly[2] - poly[3])), h),
                     cuts(std::max(glm::length(poly[3] - poly[0]), glm::length(poly[2] - poly[1])), h)};
-            planned += double(p.nu) * p.nv;
-            pieces.emplace_back(int(si), std::move(p));
+            plan.patches += double(p.nu) * p.nv;
+            plan.pieces.emplace_back(int(si), std::move(p));
         } else if (poly.size() == 3) {
             add_triangle(poly[0], poly[1], poly[2]);
         } else {
@@ -85,8 +105,23 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     }
     if (options.element_split < 1 || options.element_split > 1024)
         throw InputError("meshing: the element split must be between 1 and 1024");
+    plan.patches *= double(options.element_split) * options.element_split;
+    return plan;
+}
+
+}  // namespace
+
+double planned_patches(const Scene& scene, const MeshingOptions& options) {
+    return plan_mesh(scene, options).patches;
+}
+
+PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
+    // Plan every piece first, so an absurd request is refused before anything is allocated.
+    MeshPlan plan = plan_mesh(scene, options);
+    m_edge = plan.edge;
+    const auto& pieces = plan.pieces;
+    const double planned = plan.patches;
     const int split = options.element_split;
-    planned *= double(split) * split;
     if (planned > double(options.max_patches)) {
         std::ostringstream msg;
         msg << "meshing would make " << planned << " patches, more than the limit of " << options.max_patches

@@ -25,6 +25,10 @@ struct MeshingOptions {
                                     // only with element_split 1, whose parents are then the identity
 };
 
+/// How many patches (elements, with element_split) PatchMesh(scene, options) would make,
+/// without making them: for estimates and warnings before a large meshing.
+double planned_patches(const Scene& scene, const MeshingOptions& options);
+
 struct PatchMeshTraits : OpenMesh::DefaultTraits {
     using Point = OpenMesh::Vec3d;
     using Normal = OpenMesh::Vec3d;

@@ -24,8 +24,11 @@ Scene load_scene(const std::string& spec) {
             scene = read_obj(spec);
         } else if (ext == ".json") {
             scene = read_json_scene(spec);
+        } else if (ext == ".ply" || ext == ".off") {
+            scene = read_mesh_scene(spec);
         } else {
-            throw InputError(spec + ": unknown scene type (expected 'cornell', a .obj or a .json file)");
+            throw InputError(spec + ": unknown scene type, got '" + ext +
+                             "' (expected 'cornell', .obj, .json, .ply or .off)");
         }
     }
     scene.validate();
