@@ -41,6 +41,7 @@ struct SolveCommand {
     std::size_t max_matrix_mb = 2048;
     std::string log_csv;
     bool ascii = false;
+    bool meshio = false;  // text fields as char arrays, which meshio reads (ParaView then shows numbers)
     std::string png;
     std::size_t series = 0;
     RenderOptions render;
@@ -117,13 +118,13 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         gather_point_values(*elements, *element_visibility, res, s.gather, o.quiet);
     }
     if (!interrupted_exit_code()) warn_about_winding(o, scene, elements->patches(), res);
-    write_vtu(out, *elements, res, {o.scene, settings.str()}, s.ascii);
+    write_vtu(out, *elements, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.ascii);
     if (interrupted_exit_code()) {
         std::cerr << "bounce: interrupted; wrote the solution so far to " << out.string() << " (" << file_status(res)
                   << ")\n";
         return interrupted_exit_code();
     }
-    if (!s.png.empty()) render_solution(*elements, res, {o.scene, settings.str()}, s.png, s.render);
+    if (!s.png.empty()) render_solution(*elements, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.png, s.render);
     if (!o.quiet)
         std::cout << summary.str() << "wrote " << out.string() << (s.png.empty() ? "" : " and " + s.png) << "\n";
     if (!res.converged && !o.quiet)
@@ -194,7 +195,8 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
              << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance << (o.flip ? " flip=1" : "");
     std::optional<SeriesWriter> series;
     if (s.series > 0) {
-        series.emplace(std::filesystem::path(out).replace_extension(".pvd"), mesh, ExportInfo{o.scene, settings.str()});
+        series.emplace(std::filesystem::path(out).replace_extension(".pvd"), mesh,
+                       ExportInfo{o.scene, settings.str(), s.meshio});
         so.snapshot_every = s.series;
         so.snapshot = [&](const SolveResult& so_far) {
             SolveResult snap = so_far;
@@ -213,14 +215,14 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     if (s.gather != "none" && !g_interrupted.load()) gather_point_values(mesh, *visibility, res, s.gather, o.quiet);
 
     if (!interrupted_exit_code()) warn_about_winding(o, scene, P, res);
-    write_vtu(out, mesh, res, {o.scene, settings.str()}, s.ascii);
+    write_vtu(out, mesh, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.ascii);
     if (interrupted_exit_code()) {
         std::cerr << "bounce: interrupted after " << res.steps << " steps; wrote the solution so far to "
                   << out.string() << " (" << file_status(res) << ")\n";
         return interrupted_exit_code();
     }
     if (series) series->finish(res);
-    if (!s.png.empty()) render_solution(mesh, res, {o.scene, settings.str()}, s.png, s.render);
+    if (!s.png.empty()) render_solution(mesh, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.png, s.render);
     if (!s.log_csv.empty()) write_log_csv(s.log_csv, {res}, {s.method}, {matrix ? matrix->seconds() : 0.0});
     if (!o.quiet) {
         std::cout << "patches " << (elements ? std::to_string(shooters->size()) + ", elements " : "") << mesh.size()
@@ -299,6 +301,9 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->check(CLI::IsMember(form_factor_methods()));
     add_form_factor_options(solve_cmd, solve->ff);
     solve_cmd->add_flag("--ascii", solve->ascii, "write ASCII instead of compressed binary");
+    solve_cmd->add_flag("--meshio", solve->meshio,
+                        "store the text fields (scene, solver, ...) as Int8 char arrays, which meshio reads; "
+                        "by default they are VTK string arrays, which ParaView shows as text and meshio refuses");
     solve_cmd->add_option("--png", solve->png, "render the result to this PNG after solving");
     solve_cmd->add_option("--series", solve->series,
                           "also write a .pvd time series: a snapshot every N shots or sweeps");

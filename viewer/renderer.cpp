@@ -32,6 +32,7 @@
 #include <vtkWindowToImageFilter.h>
 
 #include "mesh/input_error.h"
+#include "viewer/display_rgb.h"
 #include "viewer/pending_output.h"
 #include "viewer/solution_grid.h"
 #include "viewer/tone_map.h"
@@ -39,41 +40,6 @@
 
 namespace bounce {
 namespace {
-
-std::vector<Rgb> rgb_values(vtkDataArray* a) {
-    std::vector<Rgb> v(a ? std::size_t(a->GetNumberOfTuples()) : 0);
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        double t[3];
-        a->GetTuple(vtkIdType(i), t);
-        v[i] = {t[0], t[1], t[2]};
-    }
-    return v;
-}
-
-/// Display colours (tone-mapped, sRGB) for the cells and, when present, the points.
-void add_display_colours(vtkUnstructuredGrid* g, double ev) {
-    auto* cd = g->GetCellData();
-    const auto B = rgb_values(cd->GetArray("radiosity"));
-    std::vector<Rgb> E = cd->GetArray("emission") ? rgb_values(cd->GetArray("emission")) : std::vector<Rgb>(B.size());
-    std::vector<double> A(B.size(), 1.0);
-    if (auto* a = cd->GetArray("area"))
-        for (std::size_t i = 0; i < A.size(); ++i) A[i] = a->GetTuple1(vtkIdType(i));
-    const ToneMap tm = ToneMap::automatic(B, E, A, ev);
-    auto colours = [&](const std::vector<Rgb>& values) {
-        auto c = vtkSmartPointer<vtkUnsignedCharArray>::New();
-        c->SetName("display");
-        c->SetNumberOfComponents(3);
-        c->SetNumberOfTuples(vtkIdType(values.size()));
-        for (std::size_t i = 0; i < values.size(); ++i) {
-            const auto px = tm(values[i]);
-            c->SetTypedTuple(vtkIdType(i), px.data());
-        }
-        return c;
-    };
-    cd->AddArray(colours(B));
-    if (auto* pb = g->GetPointData()->GetArray("radiosity"); pb && pb->GetNumberOfComponents() == 3)
-        g->GetPointData()->AddArray(colours(rgb_values(pb)));
-}
 
 std::string picture_extension(const std::filesystem::path& p) {
     std::string ext = p.extension().string();
@@ -124,7 +90,7 @@ struct Scene3d {
     Scene3d(vtkUnstructuredGrid* g, const RenderOptions& o) {
         if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
             throw InputError("--size must be between 16x16 and 8192x8192");
-        add_display_colours(g, o.exposure);
+        add_display_rgb(g, o.exposure);
         mapper->SetInputData(g);
         actor->SetMapper(mapper);
         // Radiosity is view-independent light: no shading on top of it.
@@ -166,7 +132,7 @@ struct Scene3d {
             mapper->UseLookupTableScalarRangeOn();
         } else {
             smooth ? mapper->SetScalarModeToUsePointFieldData() : mapper->SetScalarModeToUseCellFieldData();
-            mapper->SelectColorArray("display");
+            mapper->SelectColorArray("display_rgb");
             mapper->SetColorModeToDirectScalars();
         }
         mapper->ScalarVisibilityOn();

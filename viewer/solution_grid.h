@@ -20,7 +20,7 @@ namespace bounce {
 vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, const SolveResult& result,
                                                         const ExportInfo& info);
 
-/// A text field written by write_vtu (a char array; older files: a string array).
+/// A text field written by write_vtu (a string array, or a char array with text_as_chars).
 std::string field_text(vtkFieldData* fd, const char* name);
 
 /// Reads a .vtu written by bounce (or any .vtu with a 3-component cell array "radiosity");

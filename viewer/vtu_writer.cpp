@@ -18,6 +18,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include "viewer/display_rgb.h"
 #include "viewer/pending_output.h"
 #include "viewer/solution_grid.h"
 #include "viewer/version.h"
@@ -43,9 +44,17 @@ void set_rgb(vtkDoubleArray* a, std::size_t i, const Rgb& c) {
     a->SetTypedTuple(vtkIdType(i), v);
 }
 
-void add_field(vtkFieldData* fd, const char* name, const std::string& value) {
-    // Text as a char array (XML type Int8), not vtkStringArray: meshio and other readers
-    // reject the "String" type, and the file must open in them as it is.
+void add_field(vtkFieldData* fd, const char* name, const std::string& value, bool as_chars) {
+    // ParaView shows a string array as text and a char array as a range of character codes;
+    // meshio (5.x) refuses the whole file when it meets the XML type "String", in any format.
+    // No encoding satisfies both, so text is a string array unless the caller asks for chars.
+    if (!as_chars) {
+        vtkNew<vtkStringArray> a;
+        a->SetName(name);
+        a->InsertNextValue(value);
+        fd->AddArray(a);
+        return;
+    }
     if (value.empty()) return;  // zero-length arrays trip meshio's reader
     vtkNew<vtkCharArray> a;
     a->SetName(name);
@@ -153,17 +162,18 @@ vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, c
                 gathered ? result.point_radiosity[v]
                          : (vertex_weight[v] > 0 ? vertex_sum[v] * (1.0 / vertex_weight[v]) : Rgb()));
     grid->GetPointData()->AddArray(point_radiosity);
+    add_display_rgb(grid, 0.0);
 
     auto fd = grid->GetFieldData();
-    add_field(fd, "scene", info.scene);
-    add_field(fd, "solver", result.solver);
-    add_field(fd, "form_factors", result.form_factors);
-    add_field(fd, "settings", info.settings);
-    add_field(fd, "version", std::string(kBounceVersion));
+    add_field(fd, "scene", info.scene, info.text_as_chars);
+    add_field(fd, "solver", result.solver, info.text_as_chars);
+    add_field(fd, "form_factors", result.form_factors, info.text_as_chars);
+    add_field(fd, "settings", info.settings, info.text_as_chars);
+    add_field(fd, "version", std::string(kBounceVersion), info.text_as_chars);
     add_field(fd, "steps", double(result.steps));
     add_field(fd, "unshot_fraction", result.unshot_fraction);
     add_field(fd, "converged", result.converged ? 1.0 : 0.0);
-    add_field(fd, "status", result.status);
+    add_field(fd, "status", result.status, info.text_as_chars);
     add_field(fd, "residual", result.residual);
     add_field(fd, "seconds", result.seconds);
     add_field(fd, "emitted_power", result.emitted_power);

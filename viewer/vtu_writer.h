@@ -13,15 +13,20 @@ namespace bounce {
 struct ExportInfo {
     std::string scene;      // scene name or path
     std::string settings;   // free text: meshing and form-factor settings
+    bool text_as_chars = false;  // text fields as Int8 char arrays (meshio reads them; ParaView shows numbers)
 };
 
 /// Writes a VTK XML unstructured grid (.vtu) with one cell per patch.
 /// Cell data: radiosity (RGB), emission (RGB), reflectance (RGB), irradiance (RGB),
-/// luminance (Rec. 709 of radiosity), area, surface (input face id), and radiosity_gathered
+/// luminance (Rec. 709 of radiosity), display_rgb (uint8 RGB: the picture of `bounce render`
+/// at exposure 0, for ParaView with Map Scalars off), area, surface (input face id), and radiosity_gathered
 /// when the result holds values gathered at the patch centres. Point data: radiosity gathered
 /// at each vertex when the result holds it (result.point_radiosity), else averaged over the
-/// patches around each vertex, weighted by area (smooth shading in ParaView). Field data: scene, solver, form_factors, settings, steps, unshot_fraction,
-/// converged, version, and the powers emitted/absorbed/escaped/unshot (RGB).
+/// patches around each vertex, weighted by area (smooth shading in ParaView), and its display_rgb.
+/// Field data: the text fields scene, solver, form_factors, settings, version, status (VTK
+/// string arrays, which ParaView shows as text; Int8 char arrays with info.text_as_chars, since
+/// meshio rejects the String type), steps, unshot_fraction, converged, residual, seconds, and the
+/// powers emitted/absorbed/escaped/unshot (RGB).
 /// Written to a temporary file beside `path`, then renamed: a failed write never leaves a
 /// partial file. Throws std::runtime_error naming the path.
 void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const SolveResult& result,

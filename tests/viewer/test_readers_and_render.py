@@ -13,6 +13,7 @@ import xml.etree.ElementTree as ET
 
 import matplotlib.image
 import meshio
+import meshio.vtu
 import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
@@ -44,8 +45,31 @@ class Files(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.vtu = os.path.join(TMP, "box.vtu")
-        r = bounce("solve", "--max-area", "4000", "--series", "500", "-q", "-o", cls.vtu)
+        # --meshio: text fields as char arrays, the encoding meshio reads.
+        r = bounce("solve", "--max-area", "4000", "--series", "500", "-q", "--meshio", "-o", cls.vtu)
         assert r.returncode == 0, r.stderr
+        cls.default_vtu = os.path.join(TMP, "default.vtu")
+        r = bounce("solve", "--max-area", "4000", "-q", "-o", cls.default_vtu)
+        assert r.returncode == 0, r.stderr
+
+    def test_text_fields_are_strings_by_default_and_chars_for_meshio(self):
+        fd = vtk_read(self.default_vtu).GetFieldData()
+        for name, value in (("scene", "cornell"), ("solver", "shooting"), ("form_factors", "raycast"),
+                            ("status", "converged")):
+            a = fd.GetAbstractArray(name)
+            self.assertIsInstance(a, vtk.vtkStringArray, name)
+            self.assertEqual(a.GetValue(0), value)
+        self.assertIn("patches=", fd.GetAbstractArray("settings").GetValue(0))
+        # meshio 5 refuses any field of XML type String: that is why --meshio exists. If a
+        # meshio release reads them, this fails and the option can go.
+        with self.assertRaisesRegex(meshio.ReadError, "String"):
+            meshio.vtu.read(self.default_vtu)
+        m = meshio.read(self.vtu)
+        self.assertEqual(bytes(m.field_data["scene"].astype(np.uint8)).decode(), "cornell")
+        self.assertEqual(bytes(m.field_data["status"].astype(np.uint8)).decode(), "converged")
+        # The same numbers either way.
+        np.testing.assert_array_equal(vtk_to_numpy(vtk_read(self.default_vtu).GetCellData().GetArray("radiosity")),
+                                      np.concatenate(m.cell_data["radiosity"]))
 
     def test_meshio_and_vtk_read_the_same_cells_and_values(self):
         count, radiosity, m = meshio_cells_and_radiosity(self.vtu)
@@ -61,7 +85,7 @@ class Files(unittest.TestCase):
 
     def test_ascii_output_reads_the_same(self):
         ascii_vtu = os.path.join(TMP, "ascii.vtu")
-        r = bounce("solve", "--max-area", "4000", "-q", "--ascii", "-o", ascii_vtu)
+        r = bounce("solve", "--max-area", "4000", "-q", "--meshio", "--ascii", "-o", ascii_vtu)
         self.assertEqual(r.returncode, 0, r.stderr)
         with open(ascii_vtu) as f:
             self.assertIn('format="ascii"', f.read())
@@ -157,6 +181,26 @@ class Pictures(unittest.TestCase):
         toward_green = mean_around((106.0, 82.5, 145.0))
         print("toward red", toward_red, "toward green", toward_green)
         self.assertGreater(toward_red[0] / toward_red[1], 1.15 * toward_green[0] / toward_green[1])
+
+    def test_display_rgb_is_the_rendered_picture(self):
+        # The file's display_rgb (for ParaView, Map Scalars off) is what render draws: sample
+        # points on the back wall, the ceiling, the red and green walls and the floor.
+        img = self.render("display.png", "--size", "800x800")
+        g = vtk_read(self.vtu)
+        rgb = vtk_to_numpy(g.GetCellData().GetArray("display_rgb"))
+        self.assertEqual(rgb.dtype, np.uint8)
+        loc = vtk.vtkCellLocator()
+        loc.SetDataSet(g)
+        loc.BuildLocator()
+        for p in ((150.0, 450.0, 559.2), (150.0, 548.8, 400.0), (555.0, 300.0, 300.0), (0.5, 300.0, 300.0),
+                  (400.0, 0.0, 100.0)):
+            closest, cell, sub, dist2 = [0.0] * 3, vtk.reference(0), vtk.reference(0), vtk.reference(0.0)
+            loc.FindClosestPoint(p, closest, cell, sub, dist2)
+            self.assertLess(dist2, 4.0, p)
+            cell = int(cell)
+            c, r = project(p, 800)
+            pixel = np.round(img[r, c] * 255)
+            np.testing.assert_allclose(pixel, rgb[cell], atol=1.0, err_msg=str(p))
 
     def test_exposure_is_monotonic_and_flat_differs_from_smooth(self):
         means = [self.render(f"ev{ev}.png", "--size", "200x200", "--exposure", str(ev)).mean() for ev in (-2, 0, 2)]

@@ -7,6 +7,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkStringArray.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
@@ -16,6 +17,7 @@
 #include "solver/linear/shooting_solver.h"
 #include "solver/visibility/visibility.h"
 #include "test_util.h"
+#include "viewer/tone_map.h"
 #include "viewer/vtu_writer.h"
 
 using namespace bounce;
@@ -78,11 +80,14 @@ TEST(VtuWriter, ReadsBackWithEveryArrayAndTheEnergyBalanceHoldsFromTheFile) {
         }
         ASSERT_NE(g->GetPointData()->GetArray("radiosity"), nullptr);
         EXPECT_EQ(g->GetPointData()->GetArray("radiosity")->GetNumberOfTuples(), g->GetNumberOfPoints());
-        std::string solver;
-        auto* text = g->GetFieldData()->GetArray("solver");
-        ASSERT_NE(text, nullptr);
-        for (vtkIdType i = 0; i < text->GetNumberOfTuples(); ++i) solver += char(text->GetTuple1(i));
-        EXPECT_EQ(solver, "shooting");
+        // Text fields are string arrays (ParaView shows them as text), one value each.
+        for (const auto& [name, value] : {std::pair<const char*, std::string>{"solver", "shooting"},
+                                          {"scene", "cornell"}, {"settings", "test"}, {"status", s.result.status}}) {
+            auto* text = vtkStringArray::SafeDownCast(g->GetFieldData()->GetAbstractArray(name));
+            ASSERT_NE(text, nullptr) << name;
+            ASSERT_EQ(text->GetNumberOfValues(), 1) << name;
+            EXPECT_EQ(text->GetValue(0), value) << name;
+        }
 
         // Energy balance from the file's own numbers, per channel:
         // emitted = sum E A, absorbed = sum (1 - rho) H A, emitted = absorbed + escaped + unshot,
@@ -136,4 +141,52 @@ TEST(VtuWriter, AFailedWriteLeavesNoFile) {
     EXPECT_THROW(write_vtu(target, s.mesh, s.result, {"cornell", ""}), std::runtime_error);
     EXPECT_FALSE(std::filesystem::exists(target));
     EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(VtuWriter, TextAsCharsForMeshio) {
+    test::TempDir dir;
+    const auto& s = cornell();
+    ExportInfo info{"cornell", "test"};
+    info.text_as_chars = true;
+    write_vtu(dir / "c.vtu", s.mesh, s.result, info);
+    const auto g = read(dir / "c.vtu");
+    auto* text = g->GetFieldData()->GetArray("scene");  // a numeric array: Int8 codes
+    ASSERT_NE(text, nullptr);
+    EXPECT_EQ(text->GetDataType(), VTK_SIGNED_CHAR);  // XML type Int8
+    std::string scene;
+    for (vtkIdType i = 0; i < text->GetNumberOfTuples(); ++i) scene += char(text->GetTuple1(i));
+    EXPECT_EQ(scene, "cornell");
+}
+
+TEST(VtuWriter, DisplayRgbIsTheRenderToneMapAtExposureZero) {
+    test::TempDir dir;
+    const auto& s = cornell();
+    write_vtu(dir / "d.vtu", s.mesh, s.result, {"cornell", "test"});
+    const auto g = read(dir / "d.vtu");
+    auto* rgb = vtkUnsignedCharArray::SafeDownCast(g->GetCellData()->GetArray("display_rgb"));
+    ASSERT_NE(rgb, nullptr);
+    ASSERT_EQ(rgb->GetNumberOfComponents(), 3);
+    ASSERT_EQ(rgb->GetNumberOfTuples(), vtkIdType(s.mesh.size()));
+    ASSERT_NE(g->GetPointData()->GetArray("display_rgb"), nullptr);
+    std::vector<Rgb> E;
+    std::vector<double> A;
+    for (const auto& p : s.mesh.patches()) {
+        E.push_back(p.emission);
+        A.push_back(p.area);
+    }
+    const ToneMap tm = ToneMap::automatic(s.result.radiosity, E, A, 0.0);
+    double mean_grey = 0, weight = 0;
+    for (std::size_t i = 0; i < s.mesh.size(); ++i) {
+        const auto want = tm(s.result.radiosity[i]);
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(rgb->GetValue(vtkIdType(3 * i + c)), want[c]) << i;
+        if (E[i].max() == 0) {
+            mean_grey += (rgb->GetValue(vtkIdType(3 * i)) + rgb->GetValue(vtkIdType(3 * i + 1))) * A[i] / 2;
+            weight += A[i];
+        }
+    }
+    // Not nearly black (the finding: raw radiosity with Map Scalars off is about 0.1 of full
+    // scale): the walls sit around mid grey after the 1 - exp(-x) curve and sRGB encoding.
+    mean_grey /= weight;
+    EXPECT_GT(mean_grey, 100);
+    EXPECT_LT(mean_grey, 220);
 }

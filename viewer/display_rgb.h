@@ -1,0 +1,15 @@
+// SPDX-License-Identifier: MIT
+// Private to viewer/: the picture's colours as data, shared by the writer and the renderer.
+#pragma once
+
+class vtkUnstructuredGrid;
+
+namespace bounce {
+
+/// Adds (or replaces) the uint8 RGB arrays `display_rgb` in the cell data (from the cell
+/// array `radiosity`) and, when the point data holds a 3-component `radiosity`, in the point
+/// data: the tone map of `bounce render` (ToneMap::automatic over the non-emitting cells,
+/// exposure ev in EV), so ParaView shows the rendered picture with Map Scalars off.
+void add_display_rgb(vtkUnstructuredGrid* grid, double ev);
+
+}  // namespace bounce
