@@ -149,7 +149,12 @@ void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& r) {
-    cmd->add_option("--camera", r.camera, "cornell, auto or x,y,z:tx,ty,tz (default: cornell for the box)");
+    cmd->add_option("--camera", r.camera,
+                    "cornell, auto or x,y,z:tx,ty,tz (default: cornell for the box, else auto: inside a "
+                    "closed room, in front of an open side)");
+    cmd->add_option("--fov", r.fov,
+                    "vertical field of view in degrees (default: 39 for cornell and open sides, framing the "
+                    "room when inside, 30 for x,y,z:tx,ty,tz)");
     cmd->add_option(
         "--size",
         [&r](const CLI::results_t& v) { return std::sscanf(v[0].c_str(), "%dx%d", &r.width, &r.height) == 2; },

@@ -40,7 +40,7 @@ void add_meshing_options(CLI::App* cmd, CommonOptions& o);
 void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o);
 /// --rays, --receiver-samples, --hemicube-res, --hemicube-jitter, --seed.
 void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f);
-/// --camera, --size, --exposure, --smooth, --flat, --luminance, --edges.
+/// --camera, --fov, --size, --exposure, --smooth, --flat, --luminance, --edges.
 void add_render_options(CLI::App* cmd, RenderOptions& r);
 
 /// Loads and meshes with the limits of --max-memory and --strict applied.

@@ -32,6 +32,7 @@
 #include <vtkWindowToImageFilter.h>
 
 #include "mesh/input_error.h"
+#include "viewer/camera.h"
 #include "viewer/display_rgb.h"
 #include "viewer/pending_output.h"
 #include "viewer/solution_grid.h"
@@ -47,34 +48,14 @@ std::string picture_extension(const std::filesystem::path& p) {
     return ext;
 }
 
-std::string scene_name(vtkUnstructuredGrid* g) {
-    return field_text(g->GetFieldData(), "scene");
-}
-
-void set_camera(vtkRenderer* ren, vtkUnstructuredGrid* g, const std::string& spec) {
+void set_camera(vtkRenderer* ren, vtkUnstructuredGrid* g, const RenderOptions& o) {
+    const CameraPose pose = choose_camera(g, o.camera, o.fov, double(o.width) / o.height);
     vtkCamera* cam = ren->GetActiveCamera();
-    std::string s = spec;
-    if (s == "default") s = scene_name(g) == "cornell" ? "cornell" : "auto";
-    if (s == "cornell") {
-        // The classic front view of the published Cornell box (camera at z = -800 looking in).
-        cam->SetPosition(278, 273, -800);
-        cam->SetFocalPoint(278, 273, 0);
-        cam->SetViewUp(0, 1, 0);
-        cam->SetViewAngle(39.0);
-    } else if (s == "auto") {
-        ren->ResetCamera();
-    } else {
-        double v[6];
-        char sep1, sep2, colon, sep3, sep4;
-        std::istringstream in(s);
-        if (!(in >> v[0] >> sep1 >> v[1] >> sep2 >> v[2] >> colon >> v[3] >> sep3 >> v[4] >> sep4 >> v[5]) ||
-            sep1 != ',' || sep2 != ',' || colon != ':' || sep3 != ',' || sep4 != ',' || !in.eof())
-            throw InputError("camera '" + spec + "': expected cornell, auto or x,y,z:tx,ty,tz");
-        cam->SetPosition(v[0], v[1], v[2]);
-        cam->SetFocalPoint(v[3], v[4], v[5]);
-        cam->SetViewUp(0, 1, 0);
-        cam->OrthogonalizeViewUp();
-    }
+    cam->SetPosition(pose.position.data());
+    cam->SetFocalPoint(pose.focal_point.data());
+    cam->SetViewUp(pose.view_up.data());
+    cam->SetViewAngle(pose.view_angle);
+    cam->OrthogonalizeViewUp();
     ren->ResetCameraClippingRange();
 }
 
@@ -95,6 +76,9 @@ struct Scene3d {
         actor->SetMapper(mapper);
         // Radiosity is view-independent light: no shading on top of it.
         actor->GetProperty()->LightingOff();
+        // Faces are one-sided: a back face reflects nothing, and culling lets a camera outside
+        // a closed room see in through the wall between (the wall's front faces the room).
+        actor->GetProperty()->BackfaceCullingOn();
         actor->GetProperty()->SetEdgeColor(0.1, 0.1, 0.1);
         actor->GetProperty()->SetEdgeVisibility(o.edges);
         // Colour range from the surfaces that do not emit: a light is orders of magnitude
@@ -120,7 +104,7 @@ struct Scene3d {
         window->AddRenderer(renderer);
         window->SetSize(o.width, o.height);
         set_colouring(o.luminance, o.smooth);
-        set_camera(renderer, g, o.camera);
+        set_camera(renderer, g, o);
     }
     void set_colouring(bool lum, bool smooth) {
         luminance = lum;

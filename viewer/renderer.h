@@ -13,6 +13,7 @@ namespace bounce {
 /// How to turn a solution into a picture.
 struct RenderOptions {
     std::string camera = "default";  // "cornell", "auto", "x,y,z:tx,ty,tz"; default: cornell for the box
+    double fov = 0.0;                // vertical field of view, degrees; 0: the camera's own (choose_camera)
     int width = 800, height = 800;   // pixels
     double exposure = 0.0;           // EV: each +1 doubles the brightness before the tone curve
     bool smooth = false;             // colours from the point data (interpolated) instead of per patch

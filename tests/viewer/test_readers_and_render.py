@@ -231,5 +231,90 @@ class Pictures(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
 
 
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+# A small cube for the README's chair.off, faces wound outward (counter-clockwise seen from outside).
+CHAIR_OFF = """OFF
+8 6 0
+-0.25 -0.25 -0.25
+0.25 -0.25 -0.25
+0.25 0.25 -0.25
+-0.25 0.25 -0.25
+-0.25 -0.25 0.25
+0.25 -0.25 0.25
+0.25 0.25 0.25
+-0.25 0.25 0.25
+4 0 3 2 1
+4 4 5 6 7
+4 0 1 5 4
+4 1 2 6 5
+4 2 3 7 6
+4 3 0 4 7
+"""
+
+
+def readme_scene():
+    """The README's JSON example, with a cube for its chair.off, in a folder of its own."""
+    with open(os.path.join(ROOT, "README.md")) as f:
+        text = f.read()
+    start = text.index("```json", text.index("`.json`, placing objects")) + len("```json")
+    folder = os.path.join(TMP, "readme")
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, "chair.off"), "w") as f:
+        f.write(CHAIR_OFF)
+    path = os.path.join(folder, "readme.json")
+    with open(path, "w") as f:
+        f.write(text[start:text.index("```", start)])
+    return path
+
+
+def colour_clusters(img):
+    """Shares of the picture per colour cluster (each channel quantised to 8 levels), largest first."""
+    q = np.minimum((img * 8).astype(int), 7)
+    keys = q[:, :, 0] * 64 + q[:, :, 1] * 8 + q[:, :, 2]
+    counts = np.bincount(keys.ravel(), minlength=512) / keys.size
+    return sorted(counts[counts > 0], reverse=True)
+
+
+class AutoCamera(unittest.TestCase):
+    """The default camera shows a scene: at least three colour clusters of 2% or more, none above 60%."""
+
+    def picture(self, scene, *args):
+        name = os.path.splitext(os.path.basename(scene))[0]
+        out = os.path.join(TMP, f"auto_{name}{len(args)}.png")
+        r = bounce("solve", scene, "-q", "--patches", "600", "-o", os.path.join(TMP, f"auto_{name}.vtu"),
+                   "--png", out, "--size", "300x300", *args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        return png(out)
+
+    def test_shipped_scenes_and_readme_example_show_three_surfaces(self):
+        scenes = [os.path.join(ROOT, "examples", "scenes", n) for n in ("sheared_room.json", "two_plates.json")]
+        for scene in scenes + [readme_scene()]:
+            shares = colour_clusters(self.picture(scene))
+            print(os.path.basename(scene), "largest clusters", np.round(shares[:5], 3))
+            self.assertGreaterEqual(sum(1 for s in shares if s >= 0.02), 3, scene)
+            self.assertLessEqual(shares[0], 0.60, scene)
+
+    def test_furnace_is_one_colour_seen_from_inside(self):
+        # furnace_box is exempt from the three-cluster rule: every face emits and reflects alike,
+        # so B = E / (1 - rho) everywhere and a true unshaded picture is one colour. What can be
+        # checked is that the camera stands inside: the walls fill the frame, no background.
+        shares = colour_clusters(self.picture(os.path.join(ROOT, "examples", "scenes", "furnace_box.json")))
+        self.assertGreater(shares[0], 0.99)
+
+    def test_fov_and_camera_are_taken(self):
+        scene = os.path.join(ROOT, "examples", "scenes", "sheared_room.json")
+        wide, narrow = self.picture(scene), self.picture(scene, "--fov", "20")
+        # A narrower view from the same place magnifies the far wall: fewer surfaces, the
+        # largest colour cluster grows.
+        self.assertGreater(colour_clusters(narrow)[0], colour_clusters(wide)[0] + 0.1)
+        # Looking at the back of the -z wall from outside: culled, so the room shows through.
+        outside = self.picture(scene, "--camera", "0,1.5,-9:0,1.5,0", "--fov", "40")
+        self.assertGreater(outside.mean(), 0.1)
+        r = bounce("render", os.path.join(TMP, "auto_sheared_room.vtu"), "-o", os.path.join(TMP, "x.png"),
+                   "--fov", "200")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--fov", r.stderr)
+
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)
