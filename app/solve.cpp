@@ -25,6 +25,7 @@
 #include "solver/refinement/adaptive_radiosity.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
+#include "viewer/paraview_script.h"
 #include "viewer/renderer.h"
 #include "viewer/series_writer.h"
 #include "viewer/vtu_writer.h"
@@ -41,7 +42,8 @@ struct SolveCommand {
     std::size_t max_matrix_mb = 2048;
     std::string log_csv;
     bool ascii = false;
-    bool meshio = false;  // text fields as char arrays, which meshio reads (ParaView then shows numbers)
+    bool meshio = false;    // text fields as char arrays, which meshio reads (ParaView then shows numbers)
+    bool paraview = false;  // also OUT_paraview.py, a ParaView script that opens OUT as render shows it
     std::string png;
     std::size_t series = 0;
     RenderOptions render;
@@ -51,6 +53,10 @@ struct SolveCommand {
     HierarchicalOptions hierarchical;
     std::string gather = "vertices";  // point values: final gather at the vertices (point_values.h)
 };
+
+std::filesystem::path paraview_script_path(const std::filesystem::path& vtu) {
+    return vtu.parent_path() / (vtu.stem().string() + "_paraview.py");
+}
 
 std::string default_output(const std::string& scene) {
     if (scene == "cornell") return "cornell.vtu";
@@ -125,6 +131,9 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         return interrupted_exit_code();
     }
     if (!s.png.empty()) render_solution(*elements, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.png, s.render);
+    if (s.paraview)
+        write_paraview_script(paraview_script_path(out), out, *elements, res,
+                              ExportInfo{o.scene, settings.str(), s.meshio}, s.render);
     if (!o.quiet)
         std::cout << summary.str() << "wrote " << out.string() << (s.png.empty() ? "" : " and " + s.png) << "\n";
     if (!res.converged && !o.quiet)
@@ -223,6 +232,9 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     }
     if (series) series->finish(res);
     if (!s.png.empty()) render_solution(mesh, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.png, s.render);
+    if (s.paraview)
+        write_paraview_script(paraview_script_path(out), out, mesh, res, ExportInfo{o.scene, settings.str(), s.meshio},
+                              s.render);
     if (!s.log_csv.empty()) write_log_csv(s.log_csv, {res}, {s.method}, {matrix ? matrix->seconds() : 0.0});
     if (!o.quiet) {
         std::cout << "patches " << (elements ? std::to_string(shooters->size()) + ", elements " : "") << mesh.size()
@@ -301,6 +313,9 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->check(CLI::IsMember(form_factor_methods()));
     add_form_factor_options(solve_cmd, solve->ff);
     solve_cmd->add_flag("--ascii", solve->ascii, "write ASCII instead of compressed binary");
+    solve_cmd->add_flag("--paraview", solve->paraview,
+                        "also write OUT_paraview.py beside OUT.vtu: a ParaView script (pvpython, or the GUI's "
+                        "Python Shell) that opens it with render's camera and colours");
     solve_cmd->add_flag("--meshio", solve->meshio,
                         "store the text fields (scene, solver, ...) as Int8 char arrays, which meshio reads; "
                         "by default they are VTK string arrays, which ParaView shows as text and meshio refuses");

@@ -13,3 +13,11 @@ echo "wrote $here/cornell.png and cornell_luminance.png"
 "$bounce" solve -q --adaptive -o "$here/cornell_adaptive.vtu" --png "$here/cornell_adaptive.png" --edges --size 600x600
 rm -f "$here/cornell_adaptive.vtu"
 echo "wrote $here/cornell_adaptive.png"
+# ParaView's own screenshot of the file, through the script solve --paraview writes
+# (PVBATCH: a pvbatch command, e.g. ../shared/tools/paraview.sh; skipped when unset).
+if [[ -n ${PVBATCH:-} ]]; then
+  "$bounce" solve -q --paraview -o "$here/cornell.vtu"
+  "$PVBATCH" "$here/cornell_paraview.py" --screenshot "$here/cornell_paraview.png"
+  rm -f "$here/cornell.vtu" "$here/cornell_paraview.py"
+  echo "wrote $here/cornell_paraview.png"
+fi

@@ -275,6 +275,35 @@ def colour_clusters(img):
     return sorted(counts[counts > 0], reverse=True)
 
 
+class ParaViewScript(unittest.TestCase):
+    def test_script_opens_the_file_as_render_shows_it(self):
+        folder = os.path.join(TMP, "pv")
+        os.makedirs(folder, exist_ok=True)
+        vtu = os.path.join(folder, "box.vtu")
+        r = bounce("solve", "--max-area", "8000", "-q", "--paraview", "-o", vtu)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        script = os.path.join(folder, "box_paraview.py")
+        with open(script) as f:
+            text = f.read()
+        compile(text, script, "exec")  # valid Python
+        self.assertIn('ColorBy(display, ("CELLS", "display_rgb"))', text)
+        self.assertIn("display.MapScalars = 0", text)
+        self.assertIn("view.CameraPosition = [278, 273, -800]", text)  # render's camera for the box
+        self.assertIn("view.CameraViewAngle = 39", text)
+        # With ParaView (BOUNCE_PVBATCH: a pvbatch command, e.g. shared/tools/paraview.sh), its
+        # screenshot is render's picture: mean difference under 1%, edges aside.
+        pvbatch = os.environ.get("BOUNCE_PVBATCH")
+        if not pvbatch:
+            self.skipTest("BOUNCE_PVBATCH unset: ParaView not run")
+        shot, ours = os.path.join(folder, "shot.png"), os.path.join(folder, "render.png")
+        subprocess.run([pvbatch, script, "--screenshot", shot], capture_output=True, timeout=600, check=True)
+        self.assertEqual(bounce("render", vtu, "-o", ours).returncode, 0)
+        a, b = png(shot), png(ours)
+        self.assertEqual(a.shape, b.shape)
+        self.assertLess(np.abs(a - b).mean(), 0.01)
+        self.assertLess((np.abs(a - b).max(axis=2) > 0.05).mean(), 0.05)
+
+
 class AutoCamera(unittest.TestCase):
     """The default camera shows a scene: at least three colour clusters of 2% or more, none above 60%."""
 
