@@ -173,6 +173,40 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     const std::filesystem::path dir = c.out;
     write_text_file(
         dir / "meshes.csv", [&](std::ostream& out) { out << csv.str(); }, "mesh comparison");
+    // The error map: every probe's error for the uniform patch mesh nearest the default size.
+    const Row* map_row = nullptr;
+    for (const auto& r : rows)
+        if (r.method == "patches" && (!map_row || std::abs(std::log(double(r.elements) / 2000.0)) <
+                                                      std::abs(std::log(double(map_row->elements) / 2000.0))))
+            map_row = &r;
+    if (map_row) {
+        write_text_file(
+            dir / "probe_errors.csv",
+            [&](std::ostream& out) {
+                out << "x,y,z,nx,ny,nz,surface,reference_luminance,patch_error,smooth_error,mesh\n";
+                out.precision(9);
+                for (std::size_t k = 0; k < probes.size(); ++k) {
+                    const auto& q = probes[k];
+                    const double pe = map_row->probe.patch_error[k], se = map_row->probe.smooth_error[k];
+                    if (std::isnan(pe)) continue;
+                    out << q.position.x << ',' << q.position.y << ',' << q.position.z << ',' << q.normal.x << ','
+                        << q.normal.y << ',' << q.normal.z << ",\"" << q.surface << "\"," << q.radiosity.luminance()
+                        << ',' << pe << ',' << se << ",\"" << map_row->setting << " (" << map_row->elements
+                        << " patches)\"\n";
+                }
+            },
+            "probe errors");
+        write_text_file(
+            dir / "outline.csv",
+            [&](std::ostream& out) {
+                out << "surface,x,y,z\n";
+                out.precision(9);
+                for (std::size_t f = 0; f < scene.surfaces.size(); ++f)
+                    for (const auto& v : scene.surfaces[f].vertices)
+                        out << f << ',' << v.x << ',' << v.y << ',' << v.z << '\n';
+            },
+            "scene outline");
+    }
     write_mesh_charts(dir);
     if (!o.quiet) {
         std::printf(
