@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "mesh/contact_cuts.h"
 #include "mesh/input_error.h"
 #include "mesh/scene_loader.h"
 #include "solver/form_factors/form_factor_matrix.h"
@@ -44,8 +45,11 @@ constexpr double kManyPatches = 50000;  // above this, say how many patches befo
 
 PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& scene) {
     scene = load_scene(spec);
-    if (o.flip)
+    if (o.flip) {
         for (auto& surface : scene.surfaces) std::reverse(surface.vertices.begin(), surface.vertices.end());
+        // What no light reaches depends on which way the faces look.
+        scene.covered = find_covered_regions(scene);
+    }
     if (o.strict && !scene.warnings.empty()) throw InputError(scene.warnings.front() + " (--strict)");
     print_warnings(scene, o.quiet);
     MeshingOptions m = o.meshing;
@@ -128,6 +132,10 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
         "treat every warning about the input (materials, degenerate, non-planar or crossing faces) as an error");
     cmd->add_flag(
         "--no-subdivide", [&o](std::int64_t) { o.meshing.subdivide = false; }, "one patch per input face");
+    cmd->add_flag(
+        "--no-contact-cuts", [&o](std::int64_t) { o.meshing.cut_contacts = false; },
+        "mesh every surface whole, also where an object rests on it (by default the parts no light can reach, "
+        "like a floor under a block, are left out)");
     cmd->add_flag("--flip", o.flip,
                   "turn every face round (for scenes wound clockwise seen from the front, which light from the back)");
     cmd->add_flag("-q,--quiet", o.quiet, "no progress line, no warnings");

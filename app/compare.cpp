@@ -94,12 +94,13 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     const std::vector<ReferencePoint> probes = reference_for_compare(scene, c.reference, c.out, o.quiet);
     // Scores a solution as solve would write it: point data gathered (the time added to the
     // row's seconds) when the mesh is within the gather's budget.
-    auto score_mesh = [&](const PatchMesh& m, const std::vector<Rgb>& B, double& seconds) {
+    auto score_mesh = [&](const PatchMesh& m, const std::vector<Rgb>& B, double& seconds, bool& gathered) {
         SolveResult r;
         r.radiosity = B;
+        gathered = false;
         if (c.gather != "none" && double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs) {
             const auto v = make_visibility(o.visibility, m.patches());
-            gather_point_values(m, *v, r, "vertices", true);
+            gathered = gather_point_values(m, *v, r, "vertices", true);
             seconds += r.seconds;
         }
         return score_at_probes(m, B, probes, r.point_radiosity);
@@ -109,12 +110,13 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         std::size_t elements = 0, links = 0;
         double seconds = 0.0, rms = -1.0;  // rms: against the fine uniform elements (-1: not comparable)
         ProbeScore probe;
+        bool gathered = false;  // point data gathered (else averaged: beyond the gather's budget, or --gather none)
     };
     std::vector<Row> rows;
     auto add_row = [&](std::string method, std::string setting, std::size_t links, double seconds, double rms,
                        const PatchMesh& m, const std::vector<Rgb>& B) {
-        Row r{std::move(method), std::move(setting), m.size(), links, seconds, rms, {}};
-        r.probe = score_mesh(m, B, r.seconds);
+        Row r{std::move(method), std::move(setting), m.size(), links, seconds, rms, {}, false};
+        r.probe = score_mesh(m, B, r.seconds, r.gathered);
         rows.push_back(std::move(r));
     };
     const AdaptiveSolution reference = solve_uniform_elements(P, *visibility, c.reference_level, a);
@@ -164,15 +166,49 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     }
     if (interrupted_exit_code()) return interrupted_exit_code();
     std::ostringstream csv;
-    csv << "method,setting,elements,links,seconds,rms_error," << kProbeColumns << "\n";
+    csv << "method,setting,elements,links,seconds,rms_error," << kProbeColumns << ",point_data\n";
     for (const auto& r : rows) {
         csv << r.method << "," << r.setting << "," << r.elements << "," << r.links << "," << r.seconds << ",";
         if (r.rms >= 0) csv << r.rms;
-        csv << "," << probe_fields(r.probe) << "\n";
+        csv << "," << probe_fields(r.probe) << "," << (r.gathered ? "gathered" : "averaged") << "\n";
     }
     const std::filesystem::path dir = c.out;
     write_text_file(
         dir / "meshes.csv", [&](std::ostream& out) { out << csv.str(); }, "mesh comparison");
+    // The error map: every probe's error for the uniform patch mesh nearest the default size.
+    const Row* map_row = nullptr;
+    for (const auto& r : rows)
+        if (r.method == "patches" && (!map_row || std::abs(std::log(double(r.elements) / 2000.0)) <
+                                                      std::abs(std::log(double(map_row->elements) / 2000.0))))
+            map_row = &r;
+    if (map_row) {
+        write_text_file(
+            dir / "probe_errors.csv",
+            [&](std::ostream& out) {
+                out << "x,y,z,nx,ny,nz,surface,reference_luminance,patch_error,smooth_error,mesh\n";
+                out.precision(9);
+                for (std::size_t k = 0; k < probes.size(); ++k) {
+                    const auto& q = probes[k];
+                    const double pe = map_row->probe.patch_error[k], se = map_row->probe.smooth_error[k];
+                    if (std::isnan(pe)) continue;
+                    out << q.position.x << ',' << q.position.y << ',' << q.position.z << ',' << q.normal.x << ','
+                        << q.normal.y << ',' << q.normal.z << ",\"" << q.surface << "\"," << q.radiosity.luminance()
+                        << ',' << pe << ',' << se << ",\"" << map_row->setting << " (" << map_row->elements
+                        << " patches)\"\n";
+                }
+            },
+            "probe errors");
+        write_text_file(
+            dir / "outline.csv",
+            [&](std::ostream& out) {
+                out << "surface,x,y,z\n";
+                out.precision(9);
+                for (std::size_t f = 0; f < scene.surfaces.size(); ++f)
+                    for (const auto& v : scene.surfaces[f].vertices)
+                        out << f << ',' << v.x << ',' << v.y << ',' << v.z << '\n';
+            },
+            "scene outline");
+    }
     write_mesh_charts(dir);
     if (!o.quiet) {
         std::printf(

@@ -25,11 +25,15 @@ int run_info(const CommonOptions& o) {
     // and patches.
     std::vector<std::size_t> patches(scene.surfaces.size(), 0);
     for (const auto& p : mesh.patches()) ++patches[std::size_t(p.surface)];
-    std::cout << "surface  patches  area  material  where\n";
+    // Contact cuts (mesh/contact_cuts.h): the area no light reaches, left out of the patches.
+    std::vector<double> removed(scene.surfaces.size(), 0.0);
+    if (o.meshing.cut_contacts)
+        for (const auto& c : scene.covered) removed[std::size_t(c.surface)] += polygon_area(c.polygon);
+    std::cout << "surface  patches  area  removed  material  where\n";
     for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
         const Surface& f = scene.surfaces[s];
         const Material& m = scene.materials[std::size_t(f.material)];
-        std::cout << s << "  " << patches[s] << "  " << polygon_area(f.vertices) << "  " << m.name
+        std::cout << s << "  " << patches[s] << "  " << polygon_area(f.vertices) << "  " << removed[s] << "  " << m.name
                   << (m.emission.max() > 0 ? " (emits " + m.emission.to_string() + ")" : "") << "  "
                   << describe(f.where, f.object) << "\n";
     }

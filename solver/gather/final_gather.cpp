@@ -25,11 +25,20 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
         const GatherPoint& x = points[i];
         if (x.reflectance.max() <= 0) return;  // reflects nothing: B = E
         SplitMix64 rng{options.seed * 0x9E3779B97F4A7C15ull + i};
+        // First every patch's unoccluded factor and ray targets, then all the point's rays in one
+        // batch (traced as packets), then the sum.
+        struct Term {
+            std::size_t patch, first, count;
+            double f0;
+        };
+        thread_local std::vector<Term> terms;
         thread_local std::vector<Visibility::Segment> segments;
         thread_local std::vector<double> kernel;
         thread_local std::vector<std::uint8_t> blocked;
+        terms.clear();
+        segments.clear();
+        kernel.clear();
         const glm::dvec3 from = x.position + lift * x.normal;
-        Rgb gathered;
         for (std::size_t j = 0; j < patches.size(); ++j) {
             const Patch& p = patches[j];
             if (p.surface == x.surface || radiosity[j].max() <= 0) continue;
@@ -39,29 +48,31 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
             // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
             const int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
             const int side = std::max(1, int(std::lround(std::sqrt(double(want)))));
-            segments.clear();
-            kernel.clear();
+            terms.push_back({j, segments.size(), std::size_t(side * side), f0});
             for (int a = 0; a < side; ++a)
                 for (int b = 0; b < side; ++b) {
                     const glm::dvec3 y = patch_point(p, (a + rng.uniform()) / side, (b + rng.uniform()) / side);
                     const glm::dvec3 d = y - x.position;
                     const double r2 = glm::dot(d, d);
-                    const double k =
-                        std::max(0.0, glm::dot(x.normal, d)) * std::max(0.0, -glm::dot(p.normal, d)) / (r2 * r2);
+                    kernel.push_back(std::max(0.0, glm::dot(x.normal, d)) * std::max(0.0, -glm::dot(p.normal, d)) /
+                                     (r2 * r2));
                     segments.push_back({from, y + lift * p.normal});
-                    kernel.push_back(k);
                 }
-            blocked.resize(segments.size());
-            visibility.occluded(segments, blocked);
+        }
+        blocked.resize(segments.size());
+        visibility.occluded(segments, blocked);
+        Rgb gathered;
+        for (const Term& t : terms) {
             double open = 0, total = 0;
-            for (std::size_t s = 0; s < segments.size(); ++s) {
+            std::size_t open_rays = 0;
+            for (std::size_t s = t.first; s < t.first + t.count; ++s) {
                 total += kernel[s];
                 open += blocked[s] ? 0.0 : kernel[s];
+                open_rays += blocked[s] ? 0 : 1;
             }
-            // All samples at zero kernel (grazing): fall back to the plain open fraction.
-            const double share =
-                total > 0 ? open / total : double(std::count(blocked.begin(), blocked.end(), 0)) / blocked.size();
-            gathered += radiosity[j] * (f0 * share);
+            // All samples at zero kernel (grazing): the plain open fraction.
+            const double share = total > 0 ? open / total : double(open_rays) / double(t.count);
+            gathered += radiosity[t.patch] * (t.f0 * share);
         }
         out[i] = x.emission + x.reflectance * gathered;
         const std::size_t d = ++done;

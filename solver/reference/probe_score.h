@@ -23,6 +23,9 @@ struct ProbeScore {
     std::size_t scored = 0;        // probes with a value, on a patch, and lit
     std::size_t skipped = 0;       // probes without a value, dark (B_ref below 1e-3 of the median), or on no patch
     double reference_noise = 0.0;  // RMS of the probes' relative standard errors (luminance): the floor of any score
+    /// Per probe, in the reference's order: signed relative luminance errors (B - B_ref) / B_ref of
+    /// the patch value and of the point data; NaN for a skipped probe.
+    std::vector<double> patch_error, smooth_error;
 };
 
 /// Per-vertex radiosity: the area-weighted mean of the patches around each vertex (the

@@ -16,29 +16,43 @@ import matplotlib.ticker as ticker
 def plain_ticks(ax):
     """Decimal tick labels (0.5, 2, 30) instead of powers of ten on short log ranges."""
     import math
-    for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+
+    def minor(axis):
+        # Minor labels (2, 3, 5) only where the axis spans too few decades for the majors to read;
+        # decided when drawn, once the limits are final.
+        def label(v, _):
+            lo, hi = axis.get_view_interval()
+            few = lo > 0 and math.log10(hi / lo) < 1.5
+            return f"{v:g}" if few and f"{v:g}"[0] in "235" else ""
+        return ticker.FuncFormatter(label)
+
+    for axis in (ax.xaxis, ax.yaxis):
         axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
-        # Minor labels (2, 3, 5) only where the axis spans too few decades for the majors to read.
-        few = lim[0] > 0 and math.log10(lim[1] / lim[0]) < 2.2
-        axis.set_minor_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}" if few and f"{v:g}"[0] in "235" else ""))
+        axis.set_minor_formatter(minor(axis))
 
 folder = sys.argv[1]
 rows = list(csv.DictReader(open(os.path.join(folder, "meshes.csv"))))
 fig, (a, b) = plt.subplots(1, 2, figsize=(13, 5))
 cmap = plt.get_cmap("viridis")
 methods = [("patches", "o", "uniform patches (every patch shoots)"),
-           ("uniform", "s", "uniform elements (60 patches shoot)"),
+           ("uniform", "s", "uniform elements (coarse patches shoot)"),
            ("adaptive", "D", "adaptive elements"),
            ("hierarchical", "^", "hierarchical")]
 for k, (method, marker, name) in enumerate(methods):
     pts = sorted((int(r["elements"]), float(r["seconds"]), float(r["probe_rms_smooth"]) * 100,
-                  float(r["probe_rms_patch"]) * 100) for r in rows if r["method"] == method)
+                  float(r["probe_rms_patch"]) * 100, r.get("point_data", "averaged") == "gathered")
+                 for r in rows if r["method"] == method)
     if not pts:
         continue
     colour = cmap(0.85 * k / (len(methods) - 1))
     for ax, x in ((a, 0), (b, 1)):
-        ax.loglog([p[x] for p in pts], [p[2] for p in pts], "-", marker=marker, color=colour,
+        g = [p for p in pts if p[4]]
+        ax.loglog([p[x] for p in g], [p[2] for p in g], "-", marker=marker, color=colour,
                   label=name + ": point data")
+        avg = [p for p in pts if not p[4]]
+        if avg:
+            ax.loglog([p[x] for p in avg], [p[2] for p in avg], "x", color=colour, markersize=9,
+                      label=name + ": point data averaged (too large to gather)")
         ax.loglog([p[x] for p in pts], [p[3] for p in pts], "--", marker=marker, fillstyle="none", color=colour,
                   label=name + ": patch values")
 ref = next((r for r in rows if r["method"] == "reference"), None)
