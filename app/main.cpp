@@ -20,6 +20,9 @@
 #include "viewer/version.h"
 
 int main(int argc, char** argv) {
+    // First of all, so a signal during start-up or parsing already asks the work to stop
+    // instead of killing the process before it can write anything.
+    bounce::app::install_signal_handlers();
     using namespace bounce::app;
     CLI::App app{"bounce: progressive-refinement radiosity"};
     app.set_version_flag("--version", std::string(bounce::kBounceVersion));
@@ -54,7 +57,6 @@ int main(int argc, char** argv) {
         std::cerr << "bounce: " << e.what() << " (see --help)\n";
         return 2;
     }
-    install_signal_handlers();
     std::optional<tbb::global_control> threads;
     if (common.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(common.threads));
     try {
