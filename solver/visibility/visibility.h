@@ -17,7 +17,8 @@ namespace bounce {
 
 /// Answers "is the open segment a-b blocked by any patch?". Callers lift the endpoints off
 /// their own patches along the normals (by `offset()`), so a ray never hits its own patch or
-/// a coplanar neighbour. Implementations are thread-safe for concurrent queries.
+/// a coplanar neighbour; backends ignore hits within `offset()` of either end (see trim). Implementations are
+/// thread-safe for concurrent queries.
 class Visibility {
 public:
     struct Segment {
@@ -46,6 +47,16 @@ public:
     double offset() const { return m_offset; }
 
 protected:
+    /// The part of a segment that is tested: t in [t0, 1 - t0] of a + t (b - a), trimmed by the
+    /// offset at both ends (t0 = offset / |b - a|). An endpoint within float rounding of a wall
+    /// at right angles to its patch (a point at a box's edge) would otherwise hit that wall at
+    /// t ~ 0: Embree rounds coordinates to float, and did (a false occlusion in an empty box).
+    /// Returns a value >= 0.5 when nothing is left to test.
+    double trim(const glm::dvec3& a, const glm::dvec3& b) const {
+        const double l = glm::length(b - a);
+        return l > 0 ? m_offset / l : 1.0;
+    }
+
     /// Sets the offset for these patches (1e-6 of their bounding box's diagonal, the same in
     /// every backend, so they trace the same rays) and returns the box's centre.
     glm::dvec3 fit_offset(const std::vector<Patch>& patches) {
