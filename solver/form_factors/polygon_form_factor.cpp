@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "mesh/polygon.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
 
 namespace bounce {
@@ -154,12 +155,6 @@ bool clip_to_front(std::span<const glm::dvec3> p, const glm::dvec3& o, const glm
     return clip_front(p, o, n, tol, out);
 }
 
-double polygon_area(std::span<const glm::dvec3> p) {
-    glm::dvec3 n(0.0);
-    for (std::size_t k = 0; k < p.size(); ++k) n += glm::cross(p[k], p[(k + 1) % p.size()]);
-    return 0.5 * glm::length(n);
-}
-
 double contour_form_factor(std::span<const glm::dvec3> from, std::span<const glm::dvec3> to, double rel_tol) {
     const double a_from = polygon_area(from);
     if (a_from <= 0.0 || polygon_area(to) <= 0.0) return 0.0;
@@ -238,8 +233,14 @@ double polygon_form_factor(std::span<const glm::dvec3> from, const glm::dvec3& n
         const auto large = f_small ? std::span<const glm::dvec3>(ct) : std::span<const glm::dvec3>(cf);
         const glm::dvec3 n_small = f_small ? n_from : n_to;
         const double a_small = f_small ? a_cf : a_ct;
-        double prev = area_gauss(small, n_small, large, 1);
-        for (const int n : {2, 3, 4, 6, 8}) {
+        // Gauss-Legendre converges like rho^(-2n) for a kernel analytic within the Bernstein
+        // ellipse rho = g + sqrt(g^2 + 1), g = gap / radius: start one below the order that
+        // predicts, and go up until two successive orders agree.
+        const double g = gap / r_small, rho = g + std::sqrt(g * g + 1.0);
+        const int predicted = int(std::ceil(std::log(1.0 / rel_tol) / (2.0 * std::log(rho))));
+        int n = std::clamp(predicted - 1, 1, 8);
+        double prev = area_gauss(small, n_small, large, n);
+        for (++n; n <= 10; ++n) {
             const double cur = area_gauss(small, n_small, large, n);
             if (std::abs(cur - prev) <= rel_tol * std::abs(cur)) return cur * a_small / a_from;
             prev = cur;

@@ -6,6 +6,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "mesh/polygon.h"
 #include "solver/form_factors/patch_sampling.h"
 
 namespace bounce {
@@ -48,8 +49,5 @@ void polygon_quadrature(std::span<const glm::dvec3> p, int cells, int n, std::ve
 /// of the plane count as on it); false when nothing of positive area is left.
 bool clip_to_front(std::span<const glm::dvec3> p, const glm::dvec3& o, const glm::dvec3& n, double tol,
                    std::vector<glm::dvec3>& out);
-
-/// Area of a planar polygon.
-double polygon_area(std::span<const glm::dvec3> polygon);
 
 }  // namespace bounce

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
+#include "solver/form_factors/exact_form_factor.h"
 #include "solver/form_factors/hemicube_form_factor.h"
 #include "solver/form_factors/patch_sampling.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
@@ -184,7 +185,7 @@ void PatchToElementFormFactor::compute_row(std::size_t i, std::span<float> row) 
     });
 }
 
-std::vector<std::string> form_factor_methods() { return {"raycast", "analytic", "hemicube"}; }
+std::vector<std::string> form_factor_methods() { return {"raycast", "exact", "analytic", "hemicube"}; }
 
 std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::string& method,
                                                                 const std::vector<Patch>& patches,
@@ -194,6 +195,7 @@ std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::strin
         if (!visibility) throw std::invalid_argument("raycast form factors need a visibility backend");
         return std::make_unique<RaycastFormFactor>(patches, visibility, options);
     }
+    if (method == "exact") return std::make_unique<ExactFormFactor>(patches, true, options);
     if (method == "analytic") return std::make_unique<RaycastFormFactor>(patches, nullptr, options);
     if (method == "hemicube") return std::make_unique<HemicubeFormFactor>(patches, options);
     std::string valid;

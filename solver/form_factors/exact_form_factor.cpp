@@ -1,0 +1,170 @@
+// SPDX-License-Identifier: MIT
+#include "solver/form_factors/exact_form_factor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
+
+#include "solver/form_factors/point_polygon_form_factor.h"
+#include "solver/form_factors/polygon_form_factor.h"
+#include "solver/visibility/shaft_culler.h"
+
+namespace bounce {
+namespace {
+
+using Polygon = std::vector<glm::dvec3>;
+
+glm::dvec3 newell(std::span<const glm::dvec3> p) {
+    glm::dvec3 n(0.0);
+    for (std::size_t k = 0; k < p.size(); ++k) n += glm::cross(p[k], p[(k + 1) % p.size()]);
+    return n;
+}
+
+void atomic_add(std::atomic<double>& a, double v) {
+    double old = a.load(std::memory_order_relaxed);
+    while (!a.compare_exchange_weak(old, old + v, std::memory_order_relaxed)) {
+    }
+}
+
+}  // namespace
+
+double shadowed_point_factor(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> source,
+                             const glm::dvec3& n_source, std::span<const std::span<const glm::dvec3>> blockers) {
+    const glm::dvec3 o = source[0];
+    const double hx = glm::dot(n_source, x - o);
+    if (hx <= 0.0) return 0.0;
+    const double source_area = polygon_area(source);
+    thread_local std::vector<Polygon> pieces, next;
+    thread_local Polygon slab, shadow, rest, part, tmp;
+    pieces.assign(1, Polygon(source.begin(), source.end()));
+    for (const auto& b : blockers) {
+        // Only the part of the blocker between the source's plane and x's height can cut a
+        // segment from x to the source (h in [0, hx]); a margin keeps the projection finite.
+        if (!clip_to_front(b, o, n_source, 0.0, tmp)) continue;
+        if (!clip_to_front(tmp, o + (1.0 - 1e-7) * hx * n_source, -n_source, 0.0, slab)) continue;
+        // Central projection from x onto the source's plane: convex stays convex.
+        shadow.clear();
+        for (const auto& z : slab) shadow.push_back(x + (z - x) * (hx / (hx - glm::dot(n_source, z - o))));
+        const double orient = glm::dot(newell(shadow), n_source);
+        if (std::abs(orient) <= 1e-14 * source_area) continue;  // seen edge-on: no area
+        const double sign = orient > 0 ? 1.0 : -1.0;
+        next.clear();
+        for (const auto& piece : pieces) {
+            // piece minus shadow: for each shadow edge, the part of what is left that lies
+            // outside it is visible; what is inside every edge is hidden.
+            rest = piece;
+            bool inside_left = true;
+            for (std::size_t e = 0; e < shadow.size(); ++e) {
+                const glm::dvec3 &a = shadow[e], &c = shadow[(e + 1) % shadow.size()];
+                const glm::dvec3 m_in = sign * glm::cross(n_source, c - a);
+                if (clip_to_front(rest, a, -m_in, 0.0, part) && polygon_area(part) > 1e-14 * source_area)
+                    next.push_back(part);
+                if (!clip_to_front(rest, a, m_in, 0.0, tmp)) {
+                    inside_left = false;
+                    break;
+                }
+                rest.swap(tmp);
+            }
+            (void)inside_left;
+        }
+        pieces.swap(next);
+        if (pieces.empty()) return 0.0;
+    }
+    double f = 0.0;
+    for (const auto& piece : pieces) f += point_polygon_form_factor(x, n, piece);
+    return f;
+}
+
+ExactFormFactor::ExactFormFactor(const std::vector<Patch>& patches, bool occlusion, const FormFactorOptions& options)
+    : m_patches(patches), m_culler(occlusion ? std::make_unique<ShaftCuller>(patches) : nullptr), m_options(options) {
+    if (!(options.exact_tolerance > 0) || !(options.visibility_tolerance > 0))
+        throw std::invalid_argument("exact form factors: tolerances must be positive");
+}
+
+ExactFormFactor::~ExactFormFactor() = default;
+
+double ExactFormFactor::partial(const Patch& r, const Patch& s, std::span<const std::uint32_t> blockers,
+                                double unoccluded, double& error) const {
+    thread_local Polygon rc, sc;
+    thread_local std::vector<std::span<const glm::dvec3>> shadows;
+    thread_local std::vector<AreaSample> q;
+    const double tol = 1e-12 * std::sqrt(std::max(r.area, s.area));
+    if (!clip_to_front(r.polygon(), s.vertices[0], s.normal, tol, rc) ||
+        !clip_to_front(s.polygon(), r.vertices[0], r.normal, tol, sc))
+        return 0.0;
+    shadows.clear();
+    for (const std::uint32_t k : blockers) shadows.push_back(m_patches[k].polygon());
+    // Orders: n x n points on the whole receiver, then 8 x 8 per cell of a finer grid.
+    constexpr int levels[][2] = {{1, 2}, {1, 4}, {1, 8}, {2, 8}, {4, 8}, {8, 8}};
+    double prev = 0.0, blocked = 0.0;
+    error = unoccluded;
+    for (int l = 0; l < 6; ++l) {
+        polygon_quadrature(rc, levels[l][0], levels[l][1], q);
+        double sum = 0.0;
+        for (const auto& p : q) {
+            const double full = point_polygon_form_factor(p.point, r.normal, sc);
+            if (full <= 0.0) continue;
+            sum += p.weight * (full - shadowed_point_factor(p.point, r.normal, sc, s.normal, shadows));
+        }
+        blocked = sum / r.area;
+        if (l > 0) {
+            error = std::abs(blocked - prev);
+            if (error <= m_options.visibility_tolerance * unoccluded) break;
+        }
+        prev = blocked;
+    }
+    return std::clamp(unoccluded - blocked, 0.0, unoccluded);
+}
+
+double ExactFormFactor::pair(std::size_t i, std::size_t j, double* error) const {
+    if (error) *error = 0.0;
+    if (i == j) return 0.0;
+    // The receiver is the smaller patch (ties: the higher index), whichever way round the pair
+    // is asked for, so F_ij and F_ji come from one computation.
+    const double ai = m_patches[i].area, aj = m_patches[j].area;
+    const bool j_receives = aj < ai || (aj == ai && j > i);
+    const Patch& r = m_patches[j_receives ? j : i];
+    const Patch& s = m_patches[j_receives ? i : j];
+    if (wholly_behind(s, r) || wholly_behind(r, s)) return 0.0;
+    double f = polygon_form_factor(r.polygon(), r.normal, s.polygon(), s.normal, m_options.exact_tolerance);
+    if (f <= 0.0) return 0.0;
+    thread_local std::vector<std::uint32_t> blockers;
+    blockers.clear();
+    if (m_culler) m_culler->candidates(i, j, blockers);
+    double err = 0.0;
+    if (blockers.empty()) {
+        m_unoccluded.fetch_add(1, std::memory_order_relaxed);
+    } else {
+        f = partial(r, s, blockers, f, err);
+        (f > 0.0 ? m_partial : m_hidden).fetch_add(1, std::memory_order_relaxed);
+        atomic_add(m_partial_af, 2.0 * r.area * f);
+        atomic_add(m_partial_err, 2.0 * r.area * err);
+    }
+    // f is F_{r -> s}; F_ij follows by reciprocity when j is the receiver.
+    const double scale = j_receives ? aj / ai : 1.0;
+    if (error) *error = err * scale;
+    return f * scale;
+}
+
+PairTally ExactFormFactor::tally() const {
+    return {m_unoccluded.load(), m_partial.load(), m_hidden.load(), m_partial_af.load(), m_partial_err.load()};
+}
+
+void ExactFormFactor::compute_row(std::size_t i, std::span<float> row) const {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, row.size(), 16), [&](const auto& range) {
+        for (std::size_t j = range.begin(); j != range.end(); ++j) row[j] = float(pair(i, j));
+    });
+}
+
+void ExactFormFactor::compute_row(std::size_t i, std::span<float> row, std::span<const std::uint8_t> known) const {
+    if (known.size() != row.size()) throw std::invalid_argument("compute_row: known and row differ in size");
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, row.size(), 16), [&](const auto& range) {
+        for (std::size_t j = range.begin(); j != range.end(); ++j)
+            if (!known[j]) row[j] = float(pair(i, j));
+    });
+}
+
+}  // namespace bounce
