@@ -24,7 +24,7 @@ struct FormFactorOptions {
     int hemicube_resolution = 256;       // pixels per side of the hemicube's top face (even)
     bool hemicube_jitter = false;        // rotate each hemicube randomly about the normal (seeded)
     double exact_tolerance = 1e-10;      // exact method: relative error of unoccluded pairs
-    double visibility_tolerance = 1e-6;  // exact method: partial pairs stop when two orders agree
+    double visibility_tolerance = 1e-5;  // exact method: partial pairs stop when two orders agree
                                          // within this fraction of the unoccluded factor
 };
 

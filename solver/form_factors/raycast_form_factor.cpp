@@ -195,7 +195,7 @@ std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::strin
         if (!visibility) throw std::invalid_argument("raycast form factors need a visibility backend");
         return std::make_unique<RaycastFormFactor>(patches, visibility, options);
     }
-    if (method == "exact") return std::make_unique<ExactFormFactor>(patches, true, options);
+    if (method == "exact") return std::make_unique<ExactFormFactor>(patches, true, options, visibility);
     if (method == "analytic") return std::make_unique<RaycastFormFactor>(patches, nullptr, options);
     if (method == "hemicube") return std::make_unique<HemicubeFormFactor>(patches, options);
     std::string valid;
