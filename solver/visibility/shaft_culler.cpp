@@ -138,8 +138,6 @@ void ShaftCuller::candidates(std::size_t i, std::size_t j, std::vector<std::uint
             }
         }
     };
-    add_edge_planes(p, q);
-    add_edge_planes(q, p);
     const auto outside = [&](const glm::dvec3& blo, const glm::dvec3& bhi) {
         if (blo.x > hi.x || blo.y > hi.y || blo.z > hi.z || bhi.x < lo.x || bhi.y < lo.y || bhi.z < lo.z) return true;
         for (int k = 0; k < nplanes; ++k)
@@ -160,6 +158,9 @@ void ShaftCuller::candidates(std::size_t i, std::size_t j, std::vector<std::uint
         }
         if (!(pos || neg)) stack[top++] = g.root;
     }
+    if (top == 0) return;  // every plane group is beside the shaft (an empty convex room)
+    add_edge_planes(p, q);
+    add_edge_planes(q, p);
     while (top > 0) {
         const Node& node = m_nodes[stack[--top]];
         if (outside(node.lo, node.hi)) continue;
