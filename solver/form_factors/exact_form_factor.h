@@ -36,7 +36,7 @@ struct PairTally {
 ///   cut out of the source, so the exact point-to-polygon kernel is taken over the part of the
 ///   source that x sees (shadow-polygon clipping, as in View3D, Walton 2002). What is
 ///   integrated numerically is only the blocked part, F = F_unoccluded - (1/A) int blocked(x),
-///   with orders 2, 4, 8 and then 8 per cell of 2 x 2, 4 x 4 and 8 x 8 cells until two agree
+///   with orders 2, 4, 8 and then 8 per cell of 2 x 2 and 4 x 4 cells until two agree
 ///   within `visibility_tolerance` of F_unoccluded (the last difference is the pair's error
 ///   estimate). A pair whose source is hidden from every point is 0. Pairs with more than
 ///   kMaxClippedBlockers candidates use kernel-weighted rays instead (weighted_rays).
@@ -65,7 +65,8 @@ public:
 private:
     /// F from r to s by kernel-weighted rays: n x n Gauss points on r, n x n on s, each ray
     /// weighted by cos cos / (pi d^2); at each point of r the unoccluded point factor times the
-    /// weighted visible fraction. Orders 2, 3, 4, 6, 8 until two agree.
+    /// weighted visible fraction. Orders 2, 3, 4 until two agree (the last difference is the
+    /// error estimate; a visibility edge makes these converge only like 1/n).
     double weighted_rays(const Patch& r, const Patch& s, double unoccluded, double& error) const;
     /// F from r to s, the blocked part integrated over r with shadows of `blockers`.
     double partial(const Patch& r, const Patch& s, std::span<const std::uint32_t> blockers, double unoccluded,
