@@ -9,9 +9,11 @@
 #include <sstream>
 #include <thread>
 
+#include "mesh/contact_cuts.h"
 #include "mesh/input_error.h"
 #include "mesh/scene_loader.h"
 #include "solver/form_factors/form_factor_matrix.h"
+#include "solver/linear/winding_check.h"
 
 namespace bounce::app {
 
@@ -35,22 +37,54 @@ void print_warnings(const Scene& scene, bool quiet) {
 }
 
 // Memory estimates, checked before the allocation they stand for.
-constexpr std::size_t kBytesPerPatch = 1024;  // Patch, OpenMesh face and vertices, AABB triangles, solver vectors
+constexpr std::size_t kBytesPerPatch = 1024;
+constexpr double kManyPatches = 50000;  // above this, say how many patches before meshing  // Patch, OpenMesh face and
+                                        // vertices, AABB triangles, solver vectors
 
 }  // namespace
 
 PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& scene) {
     scene = load_scene(spec);
+    if (o.flip) {
+        for (auto& surface : scene.surfaces) std::reverse(surface.vertices.begin(), surface.vertices.end());
+        // What no light reaches depends on which way the faces look.
+        scene.covered = find_covered_regions(scene);
+    }
     if (o.strict && !scene.warnings.empty()) throw InputError(scene.warnings.front() + " (--strict)");
     print_warnings(scene, o.quiet);
     MeshingOptions m = o.meshing;
     m.max_patches = std::min(m.max_patches, (o.max_memory_mb << 20) / kBytesPerPatch);
+    // Say what a large meshing will cost before making it (refusals come from PatchMesh).
+    const double planned = planned_patches(scene, m);
+    if (!o.quiet && planned > kManyPatches && planned <= double(m.max_patches))
+        std::cerr << "note: meshing into " << std::size_t(planned) << " patches (about "
+                  << std::size_t(planned * kBytesPerPatch / double(1 << 20))
+                  << " MB for the mesh alone; a shooting solve grows like N^1.9, 47 s at 16k patches)\n";
     return PatchMesh(scene, m);
 }
 
 bool default_meshing(const CommonOptions& o) {
     return o.meshing.max_area == 0 && o.meshing.max_edge == 0 &&
            o.meshing.target_patches == MeshingOptions{}.target_patches;
+}
+
+bool warn_about_winding(const CommonOptions& o, const Scene& scene, const std::vector<Patch>& patches,
+                        const SolveResult& result) {
+    if (o.quiet) return false;
+    const WindingReport w = check_winding(patches, result);
+    if (!w.suspicious()) return false;
+    auto name = [&](int s) { return describe(scene.surfaces[s].where, scene.surfaces[s].object); };
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "warning: orientation: " << 100.0 * w.escaped_fraction << "% of the emitted power escapes";
+    for (const int s : w.dark_emitters) msg << "; the emitter " << name(s) << " reaches no surface";
+    msg << "; with every face turned round, " << 100.0 * w.reach_turned << "% of the emitters' first bounce would land"
+        << " on the scene instead of " << 100.0 * w.reach_as_wound
+        << "%. Faces seem wound clockwise seen from their front; likely:";
+    for (std::size_t k = 0; k < w.likely_faces.size(); ++k) msg << (k ? ", " : " ") << name(w.likely_faces[k]);
+    msg << ". --flip turns every face (in JSON, \"flip\": true on an object)";
+    std::cerr << msg.str() << "\n";
+    return true;
 }
 
 void check_memory(const CommonOptions& o, const std::string& what, double bytes) {
@@ -98,6 +132,12 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
         "treat every warning about the input (materials, degenerate, non-planar or crossing faces) as an error");
     cmd->add_flag(
         "--no-subdivide", [&o](std::int64_t) { o.meshing.subdivide = false; }, "one patch per input face");
+    cmd->add_flag(
+        "--no-contact-cuts", [&o](std::int64_t) { o.meshing.cut_contacts = false; },
+        "mesh every surface whole, also where an object rests on it (by default the parts no light can reach, "
+        "like a floor under a block, are left out)");
+    cmd->add_flag("--flip", o.flip,
+                  "turn every face round (for scenes wound clockwise seen from the front, which light from the back)");
     cmd->add_flag("-q,--quiet", o.quiet, "no progress line, no warnings");
     cmd->add_option("--threads", o.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--visibility", o.visibility, "visibility backend for shadow rays (default: embree)")
@@ -105,14 +145,15 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
 }
 
 void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
-    cmd->add_option("--rays", f.visibility_rays, "visibility rays per patch pair (raycast)")
+    cmd->add_option("--rays", f.visibility_rays, "visibility rays per patch pair (raycast; 4)")
         ->check(CLI::Range(1, 4096));
-    cmd->add_option("--receiver-samples", f.receiver_samples, "points per side of each receiver (raycast); 0: adaptive")
+    cmd->add_option("--receiver-samples", f.receiver_samples,
+                    "points per side of each receiver (raycast); 0: adaptive (0)")
         ->check(CLI::Range(0, 16));
-    cmd->add_option("--hemicube-res", f.hemicube_resolution, "hemicube pixels per side (even)")
+    cmd->add_option("--hemicube-res", f.hemicube_resolution, "hemicube pixels per side, even (256)")
         ->check(CLI::Range(2, 4096));
-    cmd->add_flag("--hemicube-jitter", f.hemicube_jitter, "rotate each hemicube randomly about the normal");
-    cmd->add_option("--seed", f.seed, "seed of the rays and rotations");
+    cmd->add_flag("--hemicube-jitter", f.hemicube_jitter, "rotate each hemicube randomly about the normal (off)");
+    cmd->add_option("--seed", f.seed, "seed of the rays and rotations (1)");
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& r) {

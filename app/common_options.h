@@ -12,6 +12,7 @@
 #include "mesh/patch_mesh.h"
 #include "mesh/scene.h"
 #include "solver/form_factors/form_factor_estimator.h"
+#include "solver/linear/solve_result.h"
 #include "solver/visibility/visibility.h"
 #include "viewer/renderer.h"
 
@@ -26,6 +27,7 @@ struct CommonOptions {
     MeshingOptions meshing;
     bool quiet = false;
     bool strict = false;
+    bool flip = false;  // turn every face round after loading (scenes wound clockwise)
     int threads = 0;
     std::string visibility = visibility_backends().front();
     std::size_t max_memory_mb = 16384;
@@ -52,6 +54,11 @@ bool default_meshing(const CommonOptions& o);
 void check_memory(const CommonOptions& o, const std::string& what, double bytes);
 /// The hemicube's per-thread buffers against --max-memory (other methods need none).
 void check_form_factor_memory(const CommonOptions& o, const std::string& method, const FormFactorOptions& f);
+
+/// After a solve: warns (unless quiet) when the faces look wound the wrong way round,
+/// naming the likely faces and --flip. Returns true when it warned.
+bool warn_about_winding(const CommonOptions& o, const Scene& scene, const std::vector<Patch>& patches,
+                        const SolveResult& result);
 
 /// Refuses an unwritable destination before any work is done.
 void check_output(const std::filesystem::path& out);

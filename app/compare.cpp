@@ -3,6 +3,7 @@
 // reference (convergence.csv and charts), or with --meshes uniform, adaptive and hierarchical
 // element meshes against one fine uniform reference (meshes.csv and a chart).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,14 +16,18 @@
 
 #include "app/command.h"
 #include "app/convergence_log.h"
+#include "app/point_values.h"
 #include "app/progress_line.h"
+#include "app/reference_points.h"
 #include "app/signals.h"
 #include "mesh/input_error.h"
 #include "mesh/patch_mesh.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/linear/gathering_solver.h"
+#include "solver/linear/shooting_solver.h"
 #include "solver/linear/solver.h"
+#include "solver/reference/probe_score.h"
 #include "solver/refinement/adaptive_radiosity.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
@@ -42,7 +47,28 @@ struct CompareCommand {
     std::size_t max_direct = 4000;
     bool meshes = false;
     int reference_level = 5;
+    std::string reference;  // --reference: a `bounce reference` CSV; empty: probes cached in `out`
+    std::vector<std::size_t> patch_counts = {250, 500, 1000, 2000, 4000, 8000};  // --meshes: uniform patch meshes
+    std::string gather = "vertices";  // point data of every run, as solve writes it
 };
+
+/// The probe columns shared by runs.csv and meshes.csv.
+constexpr const char* kProbeColumns =
+    "probe_rms_patch,probe_max_patch,probe_rms_smooth,probe_max_smooth,probe_rms_smooth_r,probe_rms_smooth_g,"
+    "probe_rms_smooth_b,probe_points,reference_noise";
+
+std::string probe_fields(const ProbeScore& s) {
+    std::ostringstream t;
+    t.precision(6);
+    t << s.rms_patch << ',' << s.max_patch << ',' << s.rms_smooth << ',' << s.max_smooth << ','
+      << s.rms_smooth_channel.r << ',' << s.rms_smooth_channel.g << ',' << s.rms_smooth_channel.b << ',' << s.scored
+      << ',' << s.reference_noise;
+    return t.str();
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 /// bounce compare --meshes: uniform element meshes of several sizes, adaptive subdivision at
 /// several targets and hierarchical radiosity at several link tolerances, all over the same
@@ -64,19 +90,55 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     const double per_level = 4.0;
     check_memory(o, "the reference elements' form-factor rows",
                  double(P.size()) * std::pow(per_level, c.reference_level) * double(P.size()) * 4.0 * 2.0);
-    const AdaptiveSolution reference = solve_uniform_elements(P, *visibility, c.reference_level, a);
+    // The truth every row is scored on: path-traced probes, computed once and cached.
+    const std::vector<ReferencePoint> probes = reference_for_compare(scene, c.reference, c.out, o.quiet);
+    // Scores a solution as solve would write it: point data gathered (the time added to the
+    // row's seconds) when the mesh is within the gather's budget.
+    auto score_mesh = [&](const PatchMesh& m, const std::vector<Rgb>& B, double& seconds) {
+        SolveResult r;
+        r.radiosity = B;
+        if (c.gather != "none" && double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs) {
+            const auto v = make_visibility(o.visibility, m.patches());
+            gather_point_values(m, *v, r, "vertices", true);
+            seconds += r.seconds;
+        }
+        return score_at_probes(m, B, probes, r.point_radiosity);
+    };
     struct Row {
         std::string method, setting;
         std::size_t elements = 0, links = 0;
-        double seconds = 0.0, rms = 0.0;
+        double seconds = 0.0, rms = -1.0;  // rms: against the fine uniform elements (-1: not comparable)
+        ProbeScore probe;
     };
     std::vector<Row> rows;
-    rows.push_back({"reference", "uniform level " + std::to_string(c.reference_level), reference.leaves.size(), 0,
-                    reference.result.seconds, 0.0});
+    auto add_row = [&](std::string method, std::string setting, std::size_t links, double seconds, double rms,
+                       const PatchMesh& m, const std::vector<Rgb>& B) {
+        Row r{std::move(method), std::move(setting), m.size(), links, seconds, rms, {}};
+        r.probe = score_mesh(m, B, r.seconds);
+        rows.push_back(std::move(r));
+    };
+    const AdaptiveSolution reference = solve_uniform_elements(P, *visibility, c.reference_level, a);
+    add_row("reference", "uniform level " + std::to_string(c.reference_level), 0, reference.result.seconds, 0.0,
+            reference.tree.conforming_mesh(reference.leaves), reference.result.radiosity);
     for (int level = 0; level < c.reference_level; ++level) {
         const AdaptiveSolution u = solve_uniform_elements(P, *visibility, level, a);
-        rows.push_back({"uniform", "level " + std::to_string(level), u.leaves.size(), 0, u.result.seconds,
-                        rms_difference(u, reference)});
+        add_row("uniform", "level " + std::to_string(level), 0, u.result.seconds, rms_difference(u, reference),
+                u.tree.conforming_mesh(u.leaves), u.result.radiosity);
+    }
+    // Uniform patch meshes solved by the default path (every patch shoots), as `solve --patches N` runs.
+    for (const std::size_t n : c.patch_counts) {
+        const auto t0 = std::chrono::steady_clock::now();
+        MeshingOptions m = o.meshing;
+        m.target_patches = n;
+        m.max_area = m.max_edge = 0;
+        const PatchMesh um(scene, m);
+        const auto uv = make_visibility(o.visibility, um.patches());
+        const auto ff = make_form_factor_estimator("raycast", um.patches(), uv.get(), c.ff);
+        SolverOptions so;
+        so.cancel = &g_interrupted;
+        const SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
+        add_row("patches", "--patches " + std::to_string(n), 0, seconds_since(t0), -1.0, um, r.radiosity);
+        if (g_interrupted.load()) break;
     }
     for (const double target : {0.2, 0.1, 0.07, 0.05, 0.035}) {
         AdaptiveOptions t = a;
@@ -84,7 +146,8 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         const AdaptiveSolution s = solve_adaptive(P, *visibility, t);
         std::ostringstream setting;
         setting << "target " << target;
-        rows.push_back({"adaptive", setting.str(), s.leaves.size(), 0, s.result.seconds, rms_difference(s, reference)});
+        add_row("adaptive", setting.str(), 0, s.result.seconds, rms_difference(s, reference),
+                s.tree.conforming_mesh(s.leaves), s.result.radiosity);
     }
     for (const double eps : {0.4, 0.2, 0.1}) {
         HierarchicalOptions h;
@@ -95,26 +158,69 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         const HierarchicalSolution s = solve_hierarchical(P, *visibility, h);
         std::ostringstream setting;
         setting << "link epsilon " << eps;
-        rows.push_back({"hierarchical", setting.str(), s.leaves.size(), s.links, s.result.seconds,
-                        rms_difference(s.tree, s.leaves, s.result.radiosity, reference)});
+        add_row("hierarchical", setting.str(), s.links, s.result.seconds,
+                rms_difference(s.tree, s.leaves, s.result.radiosity, reference), s.tree.conforming_mesh(s.leaves),
+                s.result.radiosity);
     }
     if (interrupted_exit_code()) return interrupted_exit_code();
     std::ostringstream csv;
-    csv << "method,setting,elements,links,seconds,rms_error\n";
-    for (const auto& r : rows)
-        csv << r.method << "," << r.setting << "," << r.elements << "," << r.links << "," << r.seconds << "," << r.rms
-            << "\n";
+    csv << "method,setting,elements,links,seconds,rms_error," << kProbeColumns << "\n";
+    for (const auto& r : rows) {
+        csv << r.method << "," << r.setting << "," << r.elements << "," << r.links << "," << r.seconds << ",";
+        if (r.rms >= 0) csv << r.rms;
+        csv << "," << probe_fields(r.probe) << "\n";
+    }
     const std::filesystem::path dir = c.out;
     write_text_file(
         dir / "meshes.csv", [&](std::ostream& out) { out << csv.str(); }, "mesh comparison");
+    // The error map: every probe's error for the uniform patch mesh nearest the default size.
+    const Row* map_row = nullptr;
+    for (const auto& r : rows)
+        if (r.method == "patches" && (!map_row || std::abs(std::log(double(r.elements) / 2000.0)) <
+                                                      std::abs(std::log(double(map_row->elements) / 2000.0))))
+            map_row = &r;
+    if (map_row) {
+        write_text_file(
+            dir / "probe_errors.csv",
+            [&](std::ostream& out) {
+                out << "x,y,z,nx,ny,nz,surface,reference_luminance,patch_error,smooth_error,mesh\n";
+                out.precision(9);
+                for (std::size_t k = 0; k < probes.size(); ++k) {
+                    const auto& q = probes[k];
+                    const double pe = map_row->probe.patch_error[k], se = map_row->probe.smooth_error[k];
+                    if (std::isnan(pe)) continue;
+                    out << q.position.x << ',' << q.position.y << ',' << q.position.z << ',' << q.normal.x << ','
+                        << q.normal.y << ',' << q.normal.z << ",\"" << q.surface << "\"," << q.radiosity.luminance()
+                        << ',' << pe << ',' << se << ",\"" << map_row->setting << " (" << map_row->elements
+                        << " patches)\"\n";
+                }
+            },
+            "probe errors");
+        write_text_file(
+            dir / "outline.csv",
+            [&](std::ostream& out) {
+                out << "surface,x,y,z\n";
+                out.precision(9);
+                for (std::size_t f = 0; f < scene.surfaces.size(); ++f)
+                    for (const auto& v : scene.surfaces[f].vertices)
+                        out << f << ',' << v.x << ',' << v.y << ',' << v.z << '\n';
+            },
+            "scene outline");
+    }
     write_mesh_charts(dir);
     if (!o.quiet) {
-        std::printf("%zu patches; RMS error of the reflected radiosity against %zu uniform elements (%d rays a pair)\n",
-                    P.size(), reference.leaves.size(), c.ff.visibility_rays);
-        std::printf("%-13s %-18s %9s %10s %9s %9s\n", "method", "setting", "elements", "links", "seconds", "rms error");
+        std::printf(
+            "%zu patches shoot to the elements; \"vs fine\": RMS error of the reflected radiosity against "
+            "%zu uniform elements; \"probe\": relative RMS luminance error at %zu path-traced probes "
+            "(their own noise %.2f%%)\n",
+            P.size(), reference.leaves.size(), rows.front().probe.scored, 100 * rows.front().probe.reference_noise);
+        std::printf("%-13s %-18s %9s %10s %9s %9s %11s %12s\n", "method", "setting", "elements", "links", "seconds",
+                    "vs fine", "probe patch", "probe smooth");
         for (const auto& r : rows)
-            std::printf("%-13s %-18s %9zu %10s %9.3f %9.4f\n", r.method.c_str(), r.setting.c_str(), r.elements,
-                        r.links ? std::to_string(r.links).c_str() : "-", r.seconds, r.rms);
+            std::printf("%-13s %-18s %9zu %10s %9.3f %9s %10.2f%% %11.2f%%\n", r.method.c_str(), r.setting.c_str(),
+                        r.elements, r.links ? std::to_string(r.links).c_str() : "-", r.seconds,
+                        r.rms >= 0 ? std::to_string(r.rms).substr(0, 6).c_str() : "-", 100 * r.probe.rms_patch,
+                        100 * r.probe.rms_smooth);
         std::cout << "wrote " << (dir / "meshes.csv").string() << " and meshes.png\n";
     }
     return 0;
@@ -132,6 +238,7 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
     PatchMesh mesh = load_and_mesh(o, o.scene, scene);
     const auto& P = mesh.patches();
     const double n = double(P.size());
+    const std::vector<ReferencePoint> probes = reference_for_compare(scene, c.reference, c.out, o.quiet);
     for (const auto& m : c.methods) check_form_factor_memory(o, m, c.ff);
     check_memory(o, "the form-factor matrices and the reference (" + std::to_string(P.size()) + " patches)",
                  n * n * (4.0 * double(c.methods.size()) + (P.size() <= c.max_direct ? 8.0 : 0.0)));
@@ -151,6 +258,7 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
     ref_options.max_matrix_mb = c.max_matrix_mb;
     SolveResult reference;
     std::string reference_name;
+    const auto reference_start = std::chrono::steady_clock::now();
     if (P.size() <= c.max_direct) {
         reference = DirectSolver({P, nullptr, &matrices[0]}, ref_options).solve();
         reference_name = "direct solution on the " + c.methods[0] + " matrix";
@@ -160,7 +268,8 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
         reference = GatheringSolver(true, {P, nullptr, &matrices[0]}, ref_options).solve();
         reference_name = "Gauss-Seidel to residual 1e-12 on the " + c.methods[0] + " matrix (too large for direct)";
     }
-    if (!o.quiet) std::cout << "reference: " << reference_name << "\n";
+    if (!o.quiet)
+        std::cout << "convergence reference: " << reference_name << ", " << seconds_since(reference_start) << " s\n";
 
     std::vector<SolveResult> runs;
     std::vector<std::string> run_methods;
@@ -179,26 +288,52 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
             ff_seconds.push_back(matrices[k].seconds());
         }
     }
+    std::vector<ProbeScore> scores;
+    for (auto& r : runs) {
+        // Point data as solve writes it: gathered at the vertices (time added to the run).
+        gather_point_values(mesh, *visibility, r, c.gather, true);
+        scores.push_back(score_at_probes(mesh, r.radiosity, probes, r.point_radiosity));
+    }
     const std::filesystem::path dir = c.out;
     write_log_csv(dir / "convergence.csv", runs, run_methods, ff_seconds);
+    write_text_file(
+        dir / "runs.csv",
+        [&](std::ostream& out) {
+            out << "form_factors,solver,patches,steps,form_factor_seconds,solve_seconds,total_seconds,residual,"
+                   "rms_error_vs_direct,"
+                << kProbeColumns << "\n";
+            out.precision(8);
+            for (std::size_t k = 0; k < runs.size(); ++k) {
+                const auto& r = runs[k];
+                out << run_methods[k] << ',' << r.solver << ',' << P.size() << ',' << r.steps << ',' << ff_seconds[k]
+                    << ',' << r.seconds << ',' << r.seconds + ff_seconds[k] << ',' << r.residual << ','
+                    << std::max(0.0, r.log.back().rms_error) << ',' << probe_fields(scores[k]) << "\n";
+            }
+        },
+        "run summary");
     write_comparison_charts(dir);
     if (!o.quiet) {
-        std::printf("%-10s %-13s %8s %10s %10s %11s %11s %16s\n", "ff", "solver", "steps", "solve s", "total s",
-                    "residual", "rms error", "steps/s to 1e-3");
+        std::printf(
+            "probe errors: relative RMS luminance error at %zu path-traced probes (their own noise %.2f%%), "
+            "patch value and smooth point data\n",
+            scores.empty() ? std::size_t(0) : scores[0].scored, scores.empty() ? 0.0 : 100 * scores[0].reference_noise);
+        std::printf("%-10s %-13s %8s %10s %10s %11s %11s %18s %11s %12s\n", "ff", "solver", "steps", "solve s",
+                    "total s", "residual", "vs direct", "to 1e-3 (steps, s)", "probe patch", "probe smooth");
         for (std::size_t k = 0; k < runs.size(); ++k) {
             const auto& r = runs[k];
             const auto& last = r.log.back();
             std::string to = "-";
             for (const auto& rec : r.log)
                 if (rec.residual >= 0 && rec.residual < 1e-3) {
-                    to = std::to_string(rec.step) + " / " + std::to_string(rec.seconds).substr(0, 6);
+                    to = std::to_string(rec.step) + ", " + std::to_string(rec.seconds).substr(0, 6) + " s";
                     break;
                 }
-            std::printf("%-10s %-13s %8zu %10.3f %10.3f %11.3g %11.3g %16s\n", run_methods[k].c_str(), r.solver.c_str(),
-                        r.steps, r.seconds, r.seconds + ff_seconds[k], r.residual, last.rms_error, to.c_str());
+            std::printf("%-10s %-13s %8zu %10.3f %10.3f %11.3g %11.3g %18s %10.2f%% %11.2f%%\n", run_methods[k].c_str(),
+                        r.solver.c_str(), r.steps, r.seconds, r.seconds + ff_seconds[k], r.residual, last.rms_error,
+                        to.c_str(), 100 * scores[k].rms_patch, 100 * scores[k].rms_smooth);
         }
-        std::cout << "patches " << P.size() << "; wrote " << (dir / "convergence.csv").string() << ", convergence.png, "
-                  << "speed_vs_accuracy.png\n";
+        std::cout << "patches " << P.size() << "; wrote " << (dir / "convergence.csv").string()
+                  << ", runs.csv, convergence.png, speed_vs_accuracy.png\n";
     }
     return 0;
 }
@@ -230,6 +365,20 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
         ->add_option("--reference-level", cmp->reference_level,
                      "--meshes: the reference cuts every patch into 4^level elements (5)")
         ->check(CLI::Range(1, 7));
+    cmp_cmd->add_option("--reference", cmp->reference,
+                        "score every run at the points of this `bounce reference` CSV (default: path-trace " +
+                            std::to_string(kCompareProbes) + " probes once and cache them in the output folder)");
+    cmp_cmd
+        ->add_option("--patch-counts", cmp->patch_counts,
+                     "--meshes: uniform patch meshes solved by shooting, for the speed-accuracy chart")
+        ->delimiter(',')
+        ->capture_default_str();
+    cmp_cmd
+        ->add_option("--gather", cmp->gather,
+                     "point data of every run: gathered at the vertices (vertices) or averaged (none); the gather's "
+                     "time is counted in the run's")
+        ->check(CLI::IsMember(std::vector<std::string>{"vertices", "none"}))
+        ->capture_default_str();
     add_form_factor_options(cmp_cmd, cmp->ff);
     return {cmp_cmd, [&common, cmp] { return run_compare(common, *cmp); }};
 }

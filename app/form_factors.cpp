@@ -115,7 +115,7 @@ Command add_form_factors_command(CLI::App& app, CommonOptions& common) {
         ->check(CLI::IsMember(form_factor_methods()));
     ff_cmd->add_option("-o,--output", ffc->output, "CSV of i,j,F_ij,row_sum_i for non-zero entries");
     ff_cmd->add_flag("--check", ffc->check, "print row sums and the reciprocity error");
-    ff_cmd->add_option("--max-matrix-mb", ffc->max_matrix_mb, "refuse a matrix larger than this (MB)");
+    ff_cmd->add_option("--max-matrix-mb", ffc->max_matrix_mb, "refuse a matrix larger than this (MB; 2048)");
     add_form_factor_options(ff_cmd, ffc->ff);
     return {ff_cmd, [&common, ffc] { return run_form_factors(common, *ffc); }};
 }

@@ -32,6 +32,21 @@ int main(int argc, char** argv) {
         add_reference_command(app, common),
     };
 
+    // CLI11 answers an unknown command with "A subcommand is required": name it instead, and
+    // list the real ones.
+    if (argc > 1 && argv[1][0] != '-') {
+        std::string known;
+        bool found = false;
+        for (const Command& c : commands) {
+            known += (known.empty() ? "" : ", ") + c.cli->get_name();
+            found |= c.cli->get_name() == argv[1];
+        }
+        if (!found) {
+            std::cerr << "bounce: error: command line: unknown command, got '" << argv[1] << "' (expected one of "
+                      << known << "; see bounce --help)\n";
+            return 2;
+        }
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -2,10 +2,12 @@
 // bounce render: a .vtu (or a scene, solved first) to a PNG.
 #include "app/render.h"
 
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 
 #include "app/command.h"
+#include "mesh/input_error.h"
 #include "mesh/patch_mesh.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/shooting_solver.h"
@@ -19,7 +21,18 @@ bool is_vtu(const std::string& p) { return std::filesystem::path(p).extension() 
 }  // namespace
 
 int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive) {
-    if (!interactive) check_output(r.output);
+    if (!interactive) {
+        check_output(r.output);
+        check_picture_path(r.output);
+    }
+    // A window nobody can see never closes: without a display, say so at once (exit 2)
+    // instead of opening it on a private Xvfb. With --exit-after (demos, tests) it closes by
+    // itself, so the private Xvfb is harmless there.
+    const char* display = std::getenv("DISPLAY");
+    if (interactive && !(display && *display) && !(r.exit_after > 0))
+        throw InputError(
+            "view: no display, DISPLAY is unset (expected an X display for the window; "
+            "bounce render IN -o OUT.png draws a picture without one)");
     if (is_vtu(r.input)) {
         interactive ? view_vtu(r.input, r.render, r.exit_after) : render_vtu(r.input, r.output, r.render);
         return 0;
@@ -36,9 +49,9 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
 
 Command add_render_command(CLI::App& app, CommonOptions& common) {
     auto rc = std::make_shared<RenderCommand>();
-    auto* render_cmd = app.add_subcommand("render", "render a .vtu (or a scene, solved first) to a PNG");
+    auto* render_cmd = app.add_subcommand("render", "render a .vtu (or a scene, solved first) to a PNG or JPEG");
     render_cmd->add_option("input", rc->input, "IN.vtu, or a scene")->required();
-    render_cmd->add_option("-o,--output", rc->output, "output PNG")->required();
+    render_cmd->add_option("-o,--output", rc->output, "output picture: .png, or .jpg/.jpeg for JPEG")->required();
     add_render_options(render_cmd, rc->render);
     add_meshing_options_no_scene(render_cmd, common);
     return {render_cmd, [&common, rc] { return run_render(common, *rc, false); }};

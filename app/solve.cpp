@@ -13,6 +13,7 @@
 
 #include "app/command.h"
 #include "app/convergence_log.h"
+#include "app/point_values.h"
 #include "app/progress_line.h"
 #include "app/signals.h"
 #include "mesh/patch_mesh.h"
@@ -48,11 +49,17 @@ struct SolveCommand {
     bool adaptive = false;
     AdaptiveOptions adaptive_options;
     HierarchicalOptions hierarchical;
+    std::string gather = "vertices";  // point values: final gather at the vertices (point_values.h)
 };
 
 std::string default_output(const std::string& scene) {
     if (scene == "cornell") return "cornell.vtu";
     return std::filesystem::path(scene).stem().string() + ".vtu";
+}
+
+/// What the written file says, so the message after a signal cannot contradict it.
+std::string file_status(const SolveResult& res) {
+    return "status = " + res.status + ", converged = " + (res.converged ? "1" : "0");
 }
 
 /// --adaptive and --solver hierarchical: quadtree elements over the patches, exported as a
@@ -105,9 +112,16 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         res.converged = res.converged && sol.rounds.back().rms_estimate <= a.target_error;
         if (!res.converged && res.status == "converged") res.status = "element budget reached";
     }
+    if (s.gather != "none" && !g_interrupted.load()) {
+        // The elements are what the file shows: gather from them, with visibility among them.
+        const auto element_visibility = make_visibility(o.visibility, elements->patches());
+        gather_point_values(*elements, *element_visibility, res, s.gather, o.quiet);
+    }
+    if (!interrupted_exit_code()) warn_about_winding(o, scene, elements->patches(), res);
     write_vtu(out, *elements, res, {o.scene, settings.str()}, s.ascii);
     if (interrupted_exit_code()) {
-        std::cerr << "bounce: interrupted; wrote the solution so far to " << out.string() << " (converged = 0)\n";
+        std::cerr << "bounce: interrupted; wrote the solution so far to " << out.string() << " (" << file_status(res)
+                  << ")\n";
         return interrupted_exit_code();
     }
     if (!s.png.empty()) render_solution(*elements, res, {o.scene, settings.str()}, s.png, s.render);
@@ -121,6 +135,10 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
 int run_solve(const CommonOptions& o, const SolveCommand& s) {
     const std::filesystem::path out = s.output.empty() ? default_output(o.scene) : s.output;
     check_output(out);
+    if (!s.png.empty()) {
+        check_output(s.png);
+        check_picture_path(s.png);
+    }
     if (s.adaptive || s.solver == "hierarchical") return run_solve_elements(o, s, out);
     if (!s.log_csv.empty()) check_output(s.log_csv);
 
@@ -129,12 +147,18 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         throw std::invalid_argument("--elements needs the shooting solver and raycast or analytic form factors");
     CommonOptions fine = o;
     fine.meshing.element_split = s.element_split;
+    // Elements must tile their patches exactly (parents), so contact cuts go with split 1 only.
+    if (elements) fine.meshing.cut_contacts = false;
     Scene scene;
     PatchMesh mesh = load_and_mesh(fine, o.scene, scene);
     const auto& P = mesh.patches();
     const double n = double(P.size());
     std::optional<PatchMesh> shooters;  // with --elements: the patches that shoot to the elements
-    if (elements) shooters.emplace(scene, o.meshing);
+    if (elements) {
+        MeshingOptions coarse = o.meshing;
+        coarse.cut_contacts = false;
+        shooters.emplace(scene, coarse);
+    }
     check_form_factor_memory(o, s.method, s.ff);
     if (s.solver != "shooting")
         check_memory(o, "the form-factor matrix (" + std::to_string(P.size()) + " patches)", n * n * 4);
@@ -170,12 +194,22 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     so.progress = [&](const SolveProgress& p) { progress.update(p); };
     so.max_matrix_mb = s.max_matrix_mb;
     so.cancel = &g_interrupted;
+    std::ostringstream settings;
+    settings << "patches=" << (elements ? shooters->size() : mesh.size()) << " elements=" << mesh.size()
+             << " edge=" << mesh.edge_length() << " solver=" << s.solver << " sor=" << s.options.sor
+             << " method=" << s.method << " rays=" << s.ff.visibility_rays
+             << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
+             << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance << (o.flip ? " flip=1" : "");
     std::optional<SeriesWriter> series;
-    const ExportInfo info{o.scene, ""};
     if (s.series > 0) {
-        series.emplace(std::filesystem::path(out).replace_extension(".pvd"), mesh, info);
+        series.emplace(std::filesystem::path(out).replace_extension(".pvd"), mesh, ExportInfo{o.scene, settings.str()});
         so.snapshot_every = s.series;
-        so.snapshot = [&](std::size_t step, const std::vector<Rgb>& B) { series->add(step, B); };
+        so.snapshot = [&](const SolveResult& so_far) {
+            SolveResult snap = so_far;
+            snap.form_factors = s.method;
+            if (matrix) snap.seconds += matrix->seconds();  // as the final file counts them
+            series->add(snap);
+        };
     }
     const auto solver = elements ? std::make_unique<ShootingSolver>(
                                        P, *ff, so, nullptr, ElementHierarchy{&shooters->patches(), &mesh.parents()})
@@ -184,17 +218,13 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     progress.finish();
     res.form_factors = s.method;
     if (matrix) res.seconds += matrix->seconds();
+    if (s.gather != "none" && !g_interrupted.load()) gather_point_values(mesh, *visibility, res, s.gather, o.quiet);
 
-    std::ostringstream settings;
-    settings << "patches=" << (elements ? shooters->size() : mesh.size()) << " elements=" << mesh.size()
-             << " edge=" << mesh.edge_length() << " solver=" << s.solver << " sor=" << s.options.sor
-             << " method=" << s.method << " rays=" << s.ff.visibility_rays
-             << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
-             << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance;
+    if (!interrupted_exit_code()) warn_about_winding(o, scene, P, res);
     write_vtu(out, mesh, res, {o.scene, settings.str()}, s.ascii);
     if (interrupted_exit_code()) {
         std::cerr << "bounce: interrupted after " << res.steps << " steps; wrote the solution so far to "
-                  << out.string() << " (converged = 0)\n";
+                  << out.string() << " (" << file_status(res) << ")\n";
         return interrupted_exit_code();
     }
     if (series) series->finish(res);
@@ -229,6 +259,13 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
     solve_solvers.push_back("hierarchical");
     solve_cmd->add_option("--solver", solve->solver, "shooting, gauss-seidel, jacobi, direct or hierarchical")
         ->check(CLI::IsMember(solve_solvers));
+    solve_cmd
+        ->add_option("--gather", solve->gather,
+                     "point data: gathered at the vertices from the solved patches with the exact kernel and "
+                     "visibility (vertices), also at the patch centres as cell array radiosity_gathered (centres), "
+                     "or averaged from the patches around each vertex (none)")
+        ->check(CLI::IsMember(gather_modes()))
+        ->capture_default_str();
     solve_cmd->add_flag("--adaptive", solve->adaptive,
                         "adaptive subdivision: patches (150 unless meshing is given) refined into elements where the "
                         "radiosity varies");
@@ -265,7 +302,7 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
     solve_cmd->add_option(
         "--cache-mb", solve->options.cache_mb,
         "shooting: memory for cached form-factor rows (MB, default 1024); rows beyond it are recomputed");
-    solve_cmd->add_option("--max-matrix-mb", solve->max_matrix_mb, "refuse a matrix larger than this (MB)");
+    solve_cmd->add_option("--max-matrix-mb", solve->max_matrix_mb, "refuse a matrix larger than this (MB; 2048)");
     solve_cmd->add_option("--form-factors", solve->method, "raycast, exact, hemicube, or analytic (no occlusion)")
         ->check(CLI::IsMember(form_factor_methods()));
     add_form_factor_options(solve_cmd, solve->ff);

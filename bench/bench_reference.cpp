@@ -7,6 +7,12 @@
 #include <tbb/global_control.h>
 
 #include "mesh/cornell_box.h"
+#include "mesh/patch_mesh.h"
+#include "mesh/scene_loader.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/gather/final_gather.h"
+#include "solver/linear/shooting_solver.h"
+#include "solver/visibility/visibility.h"
 #include "solver/reference/path_tracer.h"
 
 using namespace bounce;
@@ -40,8 +46,27 @@ void BM_Reference100ProbesTo1Percent(benchmark::State& state) {
     state.counters["paths_per_probe"] = double(tracer.paths_traced()) / double(state.iterations()) / 100.0;
 }
 
+/// The point data of the default run: final gather at every vertex of the default (contact-cut)
+/// Cornell mesh from its solved patches, on 2 threads; compare with BM_CornellSolve in
+/// bench_shooting for what it adds to a solve.
+void BM_GatherVertices(benchmark::State& state) {
+    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
+    static const Scene scene = load_scene("cornell");
+    static const PatchMesh mesh(scene, MeshingOptions{});
+    const auto vis = make_visibility("embree", mesh.patches());
+    static const std::vector<Rgb> B = [&] {
+        const auto ff = make_form_factor_estimator("raycast", mesh.patches(), vis.get(), {});
+        return ShootingSolver(mesh.patches(), *ff, {}).solve().radiosity;
+    }();
+    const auto points = vertex_gather_points(mesh);
+    for (auto _ : state) benchmark::DoNotOptimize(final_gather(mesh.patches(), B, *vis, points));
+    state.counters["vertices"] = double(points.size());
+    state.counters["patches"] = double(mesh.size());
+}
+
 }  // namespace
 
+BENCHMARK(BM_GatherVertices)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ReferencePaths)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Reference100ProbesTo1Percent)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -123,6 +123,15 @@ def main():
               int(sh["BM_CornellSolve/1/real_time"]["patches"]),
               {"threads": threads, "seconds": t, "steps": int(sh["BM_CornellSolve/1/real_time"]["shots"])})
 
+    ref = run_gbench(os.path.join(a.build, "bench", "bench_reference"), a.short, micro_patches)
+    for threads in (1, 2):
+        b = ref[f"BM_ReferencePaths/{threads}/real_time"]
+        micro(f"path-traced reference, {threads} thread{'s' if threads > 1 else ''}", b["items_per_second"],
+              "paths/s", "", {"threads": threads})
+    b = ref["BM_Reference100ProbesTo1Percent/real_time"]
+    micro("path-traced reference: 100 probes to 1%", b["real_time"] / 1e3, "s", "",
+          {"threads": 2, "seconds": b["real_time"] / 1e3, "steps": round(b["paths_per_probe"])})
+
     with tempfile.TemporaryDirectory() as tmp:
         for series, solver, method, extra, full, short in E2E:
             for n in (short if a.short else full):
@@ -184,6 +193,9 @@ def main():
     print(f"embree / cgal shadow rays: {ratio('shadow rays, embree packets of 4', 'shadow rays, cgal'):.1f}x; "
           f"raycast rows embree / cgal: {ratio('form-factor rows, raycast, embree', 'form-factor rows, raycast, cgal'):.1f}x; "
           f"Cornell solve 2 threads / 1 thread speed-up: {t1 / t2:.2f}x")
+    p1 = ref["BM_ReferencePaths/1/real_time"]["items_per_second"]
+    print(f"path-traced reference: {p1 / 1e3:.0f}k paths/s per core ({p1 / 150e3:.1f}x the 150k anchor), "
+          f"100 probes to 1% in {b['real_time'] / 1e3:.2f} s on 2 threads")
     return 0
 
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <set>
 
@@ -19,6 +20,13 @@ namespace bounce {
 namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+/// "0.19% of the face's longest edge": how far off relative to the face's size.
+std::string percent_of(double dev, double size) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.2g%% of its longest edge", 100.0 * dev / size);
+    return text;
+}
 
 K::Point_3 to_cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
 
@@ -89,8 +97,8 @@ void report_crossings(Scene& scene) {
             const auto& a = scene.surfaces[owner[i]];
             const auto& b = scene.surfaces[owner[j]];
             if (reported.size() <= 20)
-                scene.warnings.push_back(a.where.to_string() + " (" + a.object + "): face crosses the face at " +
-                                         b.where.to_string() + " (" + b.object + "), a self-intersection");
+                scene.warnings.push_back(describe(a.where, a.object) + ": face crosses the face at " +
+                                         describe(b.where, b.object) + ", a self-intersection");
         }
     }
     if (reported.size() > 20)
@@ -103,7 +111,7 @@ void check_geometry(Scene& scene, const std::string& source) {
     std::vector<Surface> kept;
     kept.reserve(scene.surfaces.size());
     for (auto& s : scene.surfaces) {
-        const std::string where = s.where.to_string() + (s.object.empty() ? "" : " (" + s.object + ")");
+        const std::string where = describe(s.where, s.object);
         // Consecutive duplicate vertices carry no edge; remove them first.
         std::vector<glm::dvec3> poly;
         for (const auto& v : s.vertices)
@@ -125,7 +133,8 @@ void check_geometry(Scene& scene, const std::string& source) {
             for (const auto& v : poly) dev = std::max(dev, std::abs(glm::dot(v - c, n)));
             if (dev > 1e-2 * size) {
                 scene.warnings.push_back(where + ": non-planar face (off its plane by " +
-                                         std::to_string(dev) + ") split into triangles");
+                                         length_text(dev, scene.units) + ", " + percent_of(dev, size) +
+                                         ") split into triangles");
                 for (const auto& t : triangulate_polygon(poly)) {
                     Surface part = s;
                     part.vertices = {poly[t[0]], poly[t[1]], poly[t[2]]};
@@ -136,8 +145,8 @@ void check_geometry(Scene& scene, const std::string& source) {
             // Close to planar: project onto the mean plane, so patches tile the face exactly
             // and its area is one number. Beyond rounding-level deviations, say so.
             if (dev > 1e-3 * size)
-                scene.warnings.push_back(where + ": face off its plane by " + std::to_string(dev) +
-                                         "; flattened onto its mean plane");
+                scene.warnings.push_back(where + ": face off its plane by " + length_text(dev, scene.units) +
+                                         " (" + percent_of(dev, size) + "); flattened onto its mean plane");
             for (auto& v : s.vertices) v -= glm::dot(v - c, n) * n;
         }
         kept.push_back(std::move(s));

@@ -117,6 +117,21 @@ std::vector<std::vector<V>> read_polygons_openmesh(const std::filesystem::path& 
 
 }  // namespace
 
+Scene read_mesh_scene(const std::filesystem::path& path) {
+    const Context cx{path.string()};
+    Scene scene;
+    scene.name = path.stem().string();
+    // .ply and .off carry no materials: every face white 0.5, said once (as for an OBJ
+    // without a material library).
+    scene.materials.push_back({"default white 0.5", Rgb::gray(0.5), Rgb()});
+    int face = 0;
+    for (auto& poly : read_polygons_openmesh(path, cx))
+        scene.surfaces.push_back({std::move(poly), 0, "", {path.string() + ": face " + std::to_string(++face), 0}});
+    scene.warnings.push_back(path.string() + ": " + std::to_string(face) +
+                             " face(s) have no material (.ply and .off carry none); using white 0.5");
+    return scene;
+}
+
 Scene read_json_scene(const std::filesystem::path& path) {
     const std::string text = read_text_file(path, "JSON scene");
     json doc;

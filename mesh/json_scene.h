@@ -21,4 +21,8 @@ namespace bounce {
 /// Unknown keys are errors. Throws InputError naming the file and the object.
 Scene read_json_scene(const std::filesystem::path& path);
 
+/// A .ply or .off file as a scene (OpenMesh's readers): its faces, all white 0.5, with a
+/// warning; neither format has materials, so nothing emits (place it from a JSON scene).
+Scene read_mesh_scene(const std::filesystem::path& path);
+
 }  // namespace bounce

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "mesh/patch_mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include <glm/geometric.hpp>
 
+#include "mesh/contact_cuts.h"
 #include "mesh/input_error.h"
 #include "mesh/polygon.h"
 
@@ -45,7 +47,16 @@ std::string Patch::to_string() const {
     return s.str();
 }
 
-PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
+namespace {
+
+/// Every surface's pieces and their grids, planned before anything is allocated.
+struct MeshPlan {
+    std::vector<std::pair<int, Piece>> pieces;  // surface index, piece
+    double patches = 0.0;                       // in all, with the element split
+    double edge = 0.0;                          // edge length used for quads
+};
+
+MeshPlan plan_mesh(const Scene& scene, const MeshingOptions& options) {
     double total = 0.0;
     for (const auto& s : scene.surfaces) total += polygon_area(s.vertices);
     if (!(options.max_area >= 0) || !(options.max_edge >= 0))
@@ -57,24 +68,35 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     if (max_area > 0) h = std::sqrt(max_area);
     if (options.max_edge > 0) h = h > 0 ? std::min(h, options.max_edge) : options.max_edge;
     if (!options.subdivide) h = 0.0;
-    m_edge = h;
+    MeshPlan plan;
+    plan.edge = h;
 
-    // Plan every piece first, so an absurd request is refused before anything is allocated.
-    std::vector<std::pair<int, Piece>> pieces;
-    double planned = 0.0;
     for (std::size_t si = 0; si < scene.surfaces.size(); ++si) {
         const auto& poly = scene.surfaces[si].vertices;
         auto add_triangle = [&](const V& a, const V& b, const V& c) {
-            const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-            Piece p{{a, b, c}, cuts(longest, h), 0};
-            planned += double(p.nu) * p.nu;
-            pieces.emplace_back(int(si), std::move(p));
+            // A triangle cut k x k gives k^2 similar triangles of area A / k^2, so the area
+            // limit asks k = sqrt(A / max_area). (Cutting by the edge h = sqrt(max_area), as
+            // quads are, gave a right triangle of area 1 four times its budget: its longest
+            // edge is 2 sqrt(A).) --max-edge is a limit on every edge. The sub-triangles are
+            // similar to the face, so no choice of k would change a sliver's aspect.
+            int k = 1;
+            if (options.subdivide) {
+                const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+                if (max_area > 0) {
+                    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+                    k = std::max(k, cuts(std::sqrt(area), std::sqrt(max_area)));
+                }
+                if (options.max_edge > 0) k = std::max(k, cuts(longest, options.max_edge));
+            }
+            Piece p{{a, b, c}, k, 0};
+            plan.patches += double(p.nu) * p.nu;
+            plan.pieces.emplace_back(int(si), std::move(p));
         };
         if (poly.size() == 4 && convex_quad(poly)) {
             Piece p{poly, cuts(std::max(glm::length(poly[1] - poly[0]), glm::length(poly[2] - poly[3])), h),
                     cuts(std::max(glm::length(poly[3] - poly[0]), glm::length(poly[2] - poly[1])), h)};
-            planned += double(p.nu) * p.nv;
-            pieces.emplace_back(int(si), std::move(p));
+            plan.patches += double(p.nu) * p.nv;
+            plan.pieces.emplace_back(int(si), std::move(p));
         } else if (poly.size() == 3) {
             add_triangle(poly[0], poly[1], poly[2]);
         } else {
@@ -83,8 +105,23 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     }
     if (options.element_split < 1 || options.element_split > 1024)
         throw InputError("meshing: the element split must be between 1 and 1024");
+    plan.patches *= double(options.element_split) * options.element_split;
+    return plan;
+}
+
+}  // namespace
+
+double planned_patches(const Scene& scene, const MeshingOptions& options) {
+    return plan_mesh(scene, options).patches;
+}
+
+PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
+    // Plan every piece first, so an absurd request is refused before anything is allocated.
+    MeshPlan plan = plan_mesh(scene, options);
+    m_edge = plan.edge;
+    const auto& pieces = plan.pieces;
+    const double planned = plan.patches;
     const int split = options.element_split;
-    planned *= double(split) * split;
     if (planned > double(options.max_patches)) {
         std::ostringstream msg;
         msg << "meshing would make " << planned << " patches, more than the limit of " << options.max_patches
@@ -97,7 +134,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     m_patches.reserve(std::size_t(planned));
     m_parent.reserve(std::size_t(planned));
     std::uint32_t parent = 0;  // index of the current element's patch in the split = 1 mesh
-    auto emit_patch = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
+    auto emit_face = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
         const auto& surface = scene.surfaces[si];
         const auto& mat = scene.materials[surface.material];
         Patch p;
@@ -120,6 +157,62 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         m_parent.push_back(parent);
     };
     auto vertex = [&](const V& p) { return m_mesh.add_vertex(OpenPatchMesh::Point(p.x, p.y, p.z)); };
+
+    // Contact cuts: a patch that overlaps a covered region keeps only its convex pieces outside
+    // it (fanned into triangles beyond four corners); one inside it is left out. Points made on a
+    // patch's edge are shared with the neighbour that makes the same point, so no T-vertex appears.
+    const bool cut = options.cut_contacts && split == 1 && !scene.covered.empty();
+    std::vector<std::vector<const CoveredRegion*>> covered(scene.surfaces.size());
+    if (cut)
+        for (const auto& c : scene.covered)
+            if (c.surface >= 0 && std::size_t(c.surface) < covered.size()) covered[std::size_t(c.surface)].push_back(&c);
+    std::vector<std::pair<V, OpenPatchMesh::VertexHandle>> cut_points;  // of the current surface
+    int cut_surface = -1;
+    auto cut_vertex = [&](int si, const V& p, double tolerance) {
+        if (si != cut_surface) {
+            cut_points.clear();
+            cut_surface = si;
+        }
+        for (const auto& [q, h] : cut_points)
+            if (glm::length(q - p) <= tolerance) return h;
+        cut_points.emplace_back(p, vertex(p));
+        return cut_points.back().second;
+    };
+    auto emit_patch = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
+        if (!cut || covered[std::size_t(si)].empty()) return emit_face(si, vh);
+        std::vector<V> poly;
+        for (const auto& h : vh) {
+            const auto q = m_mesh.point(h);
+            poly.emplace_back(q[0], q[1], q[2]);
+        }
+        const V n = newell_normal(poly);
+        const double area = 0.5 * glm::length(n);
+        std::vector<std::vector<V>> pieces = {poly};
+        for (const CoveredRegion* c : covered[std::size_t(si)]) {
+            std::vector<std::vector<V>> next;
+            for (const auto& piece : pieces)
+                for (auto& q : subtract_convex(piece, c->polygon, n / (2 * area), 1e-9 * area)) next.push_back(std::move(q));
+            pieces = std::move(next);
+        }
+        if (pieces.size() == 1 && pieces[0] == poly) return emit_face(si, vh);
+        const double tolerance = 1e-9 * std::sqrt(area);
+        for (const auto& piece : pieces) {
+            std::vector<OpenPatchMesh::VertexHandle> h;
+            for (const V& p : piece) {
+                const auto corner = std::find(poly.begin(), poly.end(), p);
+                h.push_back(corner != poly.end() ? vh[std::size_t(corner - poly.begin())] : cut_vertex(si, p, tolerance));
+            }
+            // Drop repeated handles (points that merged), then fan anything beyond a quad.
+            h.erase(std::unique(h.begin(), h.end()), h.end());
+            while (h.size() > 1 && h.front() == h.back()) h.pop_back();
+            if (h.size() < 3) continue;
+            if (h.size() <= 4) {
+                emit_face(si, h);
+            } else {
+                for (std::size_t k = 1; k + 1 < h.size(); ++k) emit_face(si, {h[0], h[k], h[k + 1]});
+            }
+        }
+    };
 
     for (const auto& [si, piece] : pieces) {
         const auto& c = piece.corners;
@@ -179,6 +272,9 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
             parent = next;
         }
     }
+    // Cut patches were emitted in pieces (or not at all): with split 1 every face is its own parent.
+    if (cut)
+        for (std::size_t i = 0; i < m_parent.size(); ++i) m_parent[i] = std::uint32_t(i);
 }
 
 PatchMesh::PatchMesh(std::vector<Patch> patches, const std::vector<glm::dvec3>& points,

@@ -21,7 +21,13 @@ struct MeshingOptions {
     std::size_t max_patches = 2000000;   // refuse meshings larger than this, before building them
     bool subdivide = true;          // false: one patch per input face (polygons > 4 are triangulated)
     int element_split = 1;          // cut every patch into split x split elements (see PatchMesh::parents)
+    bool cut_contacts = true;       // leave out Scene::covered (clipping the patches that straddle it);
+                                    // only with element_split 1, whose parents are then the identity
 };
+
+/// How many patches (elements, with element_split) PatchMesh(scene, options) would make,
+/// without making them: for estimates and warnings before a large meshing.
+double planned_patches(const Scene& scene, const MeshingOptions& options);
 
 struct PatchMeshTraits : OpenMesh::DefaultTraits {
     using Point = OpenMesh::Vec3d;

@@ -19,6 +19,19 @@ std::string SourceLocation::to_string() const {
     return file;
 }
 
+std::string describe(const SourceLocation& where, const std::string& object) {
+    const std::string w = where.to_string();
+    if (object.empty() || w.find(object) != std::string::npos) return w;
+    return w + " (" + object + ")";
+}
+
+std::string length_text(double value, const std::string& units) {
+    std::ostringstream s;
+    s.precision(3);
+    s << value << " " << (units.empty() ? "scene units" : units);
+    return s.str();
+}
+
 void Scene::validate() const {
     for (const auto& m : materials) {
         for (int c = 0; c < 3; ++c) {

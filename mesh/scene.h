@@ -25,6 +25,13 @@ struct SourceLocation {
     std::string to_string() const;
 };
 
+/// "file.obj:42 (object)": where a surface came from, its object named once (not when the
+/// location already says it, as "cornell box: floor" does).
+std::string describe(const SourceLocation& where, const std::string& object);
+
+/// A length for messages: "1.07 mm", or "1.07 scene units" when the scene has no unit.
+std::string length_text(double value, const std::string& units);
+
 /// One planar polygon of the input, before subdivision into patches. Vertices are in
 /// counter-clockwise order seen from the front; the front is the side that emits and reflects.
 struct Surface {
@@ -34,12 +41,21 @@ struct Surface {
     SourceLocation where;
 };
 
+/// A convex polygon in the plane of surface `surface` that no light can reach: another object
+/// rests on it or is mounted flush in front of it (mesh/contact_cuts.h). The mesher leaves it out.
+struct CoveredRegion {
+    int surface = -1;
+    std::vector<glm::dvec3> polygon;  // convex, counter-clockwise seen from the surface's front
+};
+
 /// A scene as read from its source: polygons with materials. Surfaces are one-sided.
 struct Scene {
     std::string name;
+    std::string units;  // length unit of the coordinates, for messages ("mm"); empty: unknown
     std::vector<Material> materials;
     std::vector<Surface> surfaces;
     std::vector<std::string> warnings;  // problems that were repaired, to show the user
+    std::vector<CoveredRegion> covered;  // found by load_scene; empty: mesh every surface whole
 
     /// Checks reflectance in [0,1], emission >= 0 and finite coordinates; throws InputError
     /// naming the material or surface. Does not look at the geometry of faces (see

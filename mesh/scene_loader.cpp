@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "mesh/contact_cuts.h"
 #include "mesh/cornell_box.h"
 #include "mesh/geometry_check.h"
 #include "mesh/input_error.h"
@@ -23,12 +24,16 @@ Scene load_scene(const std::string& spec) {
             scene = read_obj(spec);
         } else if (ext == ".json") {
             scene = read_json_scene(spec);
+        } else if (ext == ".ply" || ext == ".off") {
+            scene = read_mesh_scene(spec);
         } else {
-            throw InputError(spec + ": unknown scene type (expected 'cornell', a .obj or a .json file)");
+            throw InputError(spec + ": unknown scene type, got '" + ext +
+                             "' (expected 'cornell', .obj, .json, .ply or .off)");
         }
     }
     scene.validate();
     check_geometry(scene, spec);
+    scene.covered = find_covered_regions(scene);
     return scene;
 }
 

@@ -15,7 +15,7 @@ check solver 'viewer/|app/|vtk'
 check viewer 'app/'
 
 # The solver's rooms, lowest first; a new room goes into this list at its place in the flow.
-rooms=(visibility form_factors linear refinement reference)
+rooms=(visibility form_factors linear refinement gather reference)
 for ((i = 0; i < ${#rooms[@]}; i++)); do
   higher=("${rooms[@]:i+1}")
   ((${#higher[@]})) || continue

@@ -14,9 +14,11 @@ void write_comparison_charts(const std::filesystem::path& folder) {
 }
 
 void write_mesh_charts(const std::filesystem::path& folder) {
-    const std::filesystem::path script = std::filesystem::path(BOUNCE_CHARTS_DIR) / "plot_meshes.py";
-    const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + folder.string() + "'";
-    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("drawing the charts failed: " + cmd);
+    for (const char* name : {"plot_meshes.py", "plot_probe_errors.py"}) {
+        const std::filesystem::path script = std::filesystem::path(BOUNCE_CHARTS_DIR) / name;
+        const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + folder.string() + "'";
+        if (std::system(cmd.c_str()) != 0) throw std::runtime_error("drawing the charts failed: " + cmd);
+    }
 }
 
 }  // namespace bounce

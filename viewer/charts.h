@@ -10,8 +10,9 @@ namespace bounce {
 /// Throws std::runtime_error when the plotting fails.
 void write_comparison_charts(const std::filesystem::path& folder);
 
-/// Draws meshes.png in `folder` from its meshes.csv (bounce compare --meshes): RMS error
-/// against elements and against seconds, for uniform, adaptive and hierarchical meshes.
+/// Draws meshes.png in `folder` from its meshes.csv (bounce compare --meshes): probe error
+/// against elements and against seconds, for every method; and probe_errors.png, the box with
+/// every probe coloured by its signed error (from probe_errors.csv and outline.csv, when there).
 void write_mesh_charts(const std::filesystem::path& folder);
 
 }  // namespace bounce

@@ -2,6 +2,7 @@
 #include "viewer/renderer.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 #include <unistd.h>
@@ -16,6 +17,8 @@
 #include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
+#include <vtkImageWriter.h>
+#include <vtkJPEGWriter.h>
 #include <vtkPNGWriter.h>
 #include <vtkPointData.h>
 #include <vtkProperty.h>
@@ -70,6 +73,12 @@ void add_display_colours(vtkUnstructuredGrid* g, double ev) {
     cd->AddArray(colours(B));
     if (auto* pb = g->GetPointData()->GetArray("radiosity"); pb && pb->GetNumberOfComponents() == 3)
         g->GetPointData()->AddArray(colours(rgb_values(pb)));
+}
+
+std::string picture_extension(const std::filesystem::path& p) {
+    std::string ext = p.extension().string();
+    for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
 }
 
 std::string scene_name(vtkUnstructuredGrid* g) {
@@ -166,6 +175,7 @@ struct Scene3d {
 };
 
 void render_grid(vtkUnstructuredGrid* g, const std::filesystem::path& png, const RenderOptions& o) {
+    check_picture_path(png);
     if (o.smooth && !g->GetPointData()->GetArray("radiosity"))
         throw InputError(png.string() + ": --smooth needs point data 'radiosity' in the input");
     VirtualDisplay display;
@@ -179,11 +189,20 @@ void render_grid(vtkUnstructuredGrid* g, const std::filesystem::path& png, const
     std::filesystem::path tmp = png;
     tmp += ".tmp-" + std::to_string(::getpid()) + ".png";
     const PendingOutput pending(tmp.c_str());
-    vtkNew<vtkPNGWriter> writer;
+    // The format follows the name: a .jpg holding PNG bytes confuses every viewer.
+    const bool jpeg = picture_extension(png) != ".png";
+    vtkSmartPointer<vtkImageWriter> writer;
+    if (jpeg) {
+        auto j = vtkSmartPointer<vtkJPEGWriter>::New();
+        j->SetQuality(95);
+        writer = j;
+    } else {
+        writer = vtkSmartPointer<vtkPNGWriter>::New();
+    }
     writer->SetFileName(tmp.string().c_str());
     writer->SetInputConnection(grab->GetOutputPort());
     writer->Write();
-    commit_output(tmp, png, writer->GetErrorCode() == 0 && std::filesystem::exists(tmp), "PNG");
+    commit_output(tmp, png, writer->GetErrorCode() == 0 && std::filesystem::exists(tmp), jpeg ? "JPEG" : "PNG");
 }
 
 void keypress(vtkObject* caller, unsigned long, void* client, void*) {
@@ -223,6 +242,13 @@ void view_grid(vtkUnstructuredGrid* g, const RenderOptions& o, double exit_after
 }
 
 }  // namespace
+
+void check_picture_path(const std::filesystem::path& picture) {
+    const std::string ext = picture_extension(picture);
+    if (ext != ".png" && ext != ".jpg" && ext != ".jpeg")
+        throw InputError(picture.string() + ": picture format, got '" + picture.extension().string() +
+                         "' (expected .png, .jpg or .jpeg)");
+}
 
 void render_vtu(const std::filesystem::path& vtu, const std::filesystem::path& png, const RenderOptions& options) {
     render_grid(read_solution_grid(vtu), png, options);

@@ -20,6 +20,10 @@ struct RenderOptions {
     bool edges = false;              // draw patch edges
 };
 
+/// Throws InputError unless the picture's name ends in .png, .jpg or .jpeg (the formats
+/// written; the bytes follow the name). Callers check before any work.
+void check_picture_path(const std::filesystem::path& picture);
+
 /// Renders a .vtu written by bounce to a PNG (temporary file, then rename), under a virtual
 /// display when DISPLAY is unset. Throws InputError for a missing or corrupt input or a bad
 /// camera string.

@@ -14,19 +14,18 @@ SeriesWriter::SeriesWriter(std::filesystem::path pvd, const PatchMesh& mesh, Exp
     std::filesystem::create_directories(m_folder);
 }
 
-void SeriesWriter::add(std::size_t step, const std::vector<Rgb>& radiosity) {
-    SolveResult snap;
-    snap.radiosity = radiosity;
-    snap.steps = step;
-    snap.status = "running";
+void SeriesWriter::add(const SolveResult& so_far) {
     char name[64];
-    std::snprintf(name, sizeof name, "step_%09zu.vtu", step);
-    write_vtu(m_folder / name, m_mesh, snap, m_info);
-    m_entries.emplace_back(step, (m_folder.filename() / name).string());
+    std::snprintf(name, sizeof name, "step_%09zu.vtu", so_far.steps);
+    write_vtu(m_folder / name, m_mesh, so_far, m_info);
+    m_entries.emplace_back(so_far.steps, (m_folder.filename() / name).string());
 }
 
 void SeriesWriter::finish(const SolveResult& final) {
-    if (m_entries.empty() || m_entries.back().first != final.steps) {
+    // The last snapshot may have been taken at the final step while still "running": the
+    // final solution replaces it, so the series ends in the file the solve wrote.
+    if (!m_entries.empty() && m_entries.back().first == final.steps) m_entries.pop_back();
+    {
         char name[64];
         std::snprintf(name, sizeof name, "step_%09zu.vtu", final.steps);
         write_vtu(m_folder / name, m_mesh, final, m_info);

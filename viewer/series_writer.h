@@ -18,7 +18,8 @@ class SeriesWriter {
 public:
     /// pvd: the collection file (e.g. cornell.pvd); snapshots go to <stem>_series/.
     SeriesWriter(std::filesystem::path pvd, const PatchMesh& mesh, ExportInfo info);
-    void add(std::size_t step, const std::vector<Rgb>& radiosity);
+    /// One snapshot: the state so far, written with its own powers, seconds and status.
+    void add(const SolveResult& so_far);
     /// Adds the final solution and writes the .pvd.
     void finish(const SolveResult& final);
     const std::filesystem::path& pvd() const { return m_pvd; }

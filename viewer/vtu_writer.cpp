@@ -133,15 +133,25 @@ vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, c
     cd->AddArray(surface);
     cd->SetActiveScalars("luminance");
 
+    if (result.gathered_centres.size() == n) {
+        auto g = rgb_array("radiosity_gathered", n);
+        for (std::size_t i = 0; i < n; ++i) set_rgb(g, i, result.gathered_centres[i]);
+        cd->AddArray(g);
+    }
     if (result.display.size() == n) {
         auto display = rgb_array("radiosity_ambient", n);
         for (std::size_t i = 0; i < n; ++i) set_rgb(display, i, result.display[i]);
         cd->AddArray(display);
     }
 
+    // Point data: gathered at the vertices when the solve did so (exact kernel and visibility),
+    // else the area-weighted mean of the patches around each vertex.
+    const bool gathered = result.point_radiosity.size() == om.n_vertices();
     auto point_radiosity = rgb_array("radiosity", om.n_vertices());
     for (std::size_t v = 0; v < om.n_vertices(); ++v)
-        set_rgb(point_radiosity, v, vertex_weight[v] > 0 ? vertex_sum[v] * (1.0 / vertex_weight[v]) : Rgb());
+        set_rgb(point_radiosity, v,
+                gathered ? result.point_radiosity[v]
+                         : (vertex_weight[v] > 0 ? vertex_sum[v] * (1.0 / vertex_weight[v]) : Rgb()));
     grid->GetPointData()->AddArray(point_radiosity);
 
     auto fd = grid->GetFieldData();

@@ -17,9 +17,10 @@ struct ExportInfo {
 
 /// Writes a VTK XML unstructured grid (.vtu) with one cell per patch.
 /// Cell data: radiosity (RGB), emission (RGB), reflectance (RGB), irradiance (RGB),
-/// luminance (Rec. 709 of radiosity), area, surface (input face id). Point data: radiosity
-/// averaged over the patches around each vertex, weighted by area (smooth shading in
-/// ParaView). Field data: scene, solver, form_factors, settings, steps, unshot_fraction,
+/// luminance (Rec. 709 of radiosity), area, surface (input face id), and radiosity_gathered
+/// when the result holds values gathered at the patch centres. Point data: radiosity gathered
+/// at each vertex when the result holds it (result.point_radiosity), else averaged over the
+/// patches around each vertex, weighted by area (smooth shading in ParaView). Field data: scene, solver, form_factors, settings, steps, unshot_fraction,
 /// converged, version, and the powers emitted/absorbed/escaped/unshot (RGB).
 /// Written to a temporary file beside `path`, then renamed: a failed write never leaves a
 /// partial file. Throws std::runtime_error naming the path.

@@ -123,6 +123,32 @@ SolveResult ShootingSolver::solve() {
         next_log = std::max(res.steps + 1, std::size_t(double(res.steps) * 1.05));
         log_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - log_start).count();
     };
+    // A snapshot is the state after res.steps shots, with its own energy account: the unshot
+    // power and fraction of this moment, seconds so far, and B plus the ambient term.
+    auto snapshot = [&] {
+        SolveResult snap;
+        snap.solver = res.solver;
+        snap.form_factors = res.form_factors;
+        snap.status = "running";
+        snap.steps = res.steps;
+        snap.seconds = seconds();
+        snap.radiosity = res.radiosity;
+        snap.irradiance = res.irradiance;
+        snap.emitted_power = res.emitted_power;
+        snap.absorbed_power = res.absorbed_power;
+        snap.escaped_power = res.escaped_power;
+        double unshot_total = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const Rgb& u = res.unshot[i];
+            snap.unshot_power += u * m_patches[i].area;
+            unshot_total += (std::abs(u.r) + std::abs(u.g) + std::abs(u.b)) * m_patches[i].area;
+        }
+        snap.unshot_fraction = unshot_total / emitted;
+        with_ambient(snap.display);
+        m_options.snapshot(snap);
+    };
+    const bool snapshots = m_options.snapshot && m_options.snapshot_every;
+    if (snapshots) snapshot();
     while (true) {
         // One scan: the unshot power still held (absolute: over-shooting leaves negative
         // unshot radiosity behind) and the patch holding the most of it.
@@ -219,8 +245,7 @@ SolveResult ShootingSolver::solve() {
         }
         res.escaped_power += shot * ai - arrived;
         ++res.steps;
-        if (m_options.snapshot && m_options.snapshot_every && res.steps % m_options.snapshot_every == 0)
-            m_options.snapshot(res.steps, res.radiosity);
+        if (snapshots && res.steps % m_options.snapshot_every == 0) snapshot();
         if (m_options.progress) {
             m_options.progress({res.steps, max_shots, res.unshot_fraction, m_options.tolerance, seconds()});
         }

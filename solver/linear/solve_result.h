@@ -41,6 +41,10 @@ struct SolveResult {
     Rgb emitted_power, absorbed_power, escaped_power, unshot_power;
     std::vector<ConvergenceRecord> log;
     std::vector<Rgb> display;  // shooting: B plus the ambient term (Cohen et al. 1988), for display
+    // Per mesh vertex, by final gather (solver/gather); empty: the exported point data is the
+    // area-weighted mean of the patches around each vertex.
+    std::vector<Rgb> point_radiosity;
+    std::vector<Rgb> gathered_centres;  // per patch, B gathered at its centre (--gather centres)
 };
 
 /// Progress of a running solver, for a progress line.

@@ -27,8 +27,10 @@ struct SolverOptions {
     const std::vector<Rgb>* reference = nullptr;  // for the error columns of the log
     std::function<void(const SolveProgress&)> progress;  // after every shot or sweep
     const std::atomic<bool>* cancel = nullptr;  // set (e.g. by SIGINT): stop after this step, status "interrupted"
-    std::size_t snapshot_every = 0;             // call `snapshot` every this many shots or sweeps (0: never)
-    std::function<void(std::size_t step, const std::vector<Rgb>& radiosity)> snapshot;
+    std::size_t snapshot_every = 0;  // call `snapshot` at step 0 and every this many shots or sweeps (0: never)
+    /// The state so far as a result (status "running"): radiosity, steps, seconds, the energy
+    /// account and unshot fraction of that moment, and for shooting B plus the ambient term.
+    std::function<void(const SolveResult& so_far)> snapshot;
 };
 
 /// A radiosity solver: B = E + rho F B per channel.

@@ -85,9 +85,11 @@ Rgb interpolate(const PatchMesh& mesh, std::size_t i, const glm::dvec3& x, const
 }  // namespace
 
 ProbeScore score_at_probes(const PatchMesh& mesh, std::span<const Rgb> patch_radiosity,
-                           std::span<const ReferencePoint> reference) {
+                           std::span<const ReferencePoint> reference, std::span<const Rgb> point_values) {
     ProbeScore s;
-    const auto at_vertex = vertex_radiosity(mesh, patch_radiosity);
+    const auto at_vertex = point_values.size() == mesh.mesh().n_vertices()
+                               ? std::vector<Rgb>(point_values.begin(), point_values.end())
+                               : vertex_radiosity(mesh, patch_radiosity);
     // Scene size from the patches' extent, for the on-plane tolerance.
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const auto& p : mesh.patches())
@@ -106,7 +108,10 @@ ProbeScore score_at_probes(const PatchMesh& mesh, std::span<const Rgb> patch_rad
     double sum_patch = 0, sum_smooth = 0, sum_noise = 0;
     Rgb sum_patch_c, sum_smooth_c;
     Rgb count_c;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
     for (const auto& r : reference) {
+        s.patch_error.push_back(nan);
+        s.smooth_error.push_back(nan);
         const double ref = r.radiosity.luminance();
         if (!r.has_value || !(ref > dark)) {
             ++s.skipped;
@@ -119,7 +124,9 @@ ProbeScore score_at_probes(const PatchMesh& mesh, std::span<const Rgb> patch_rad
         }
         const Rgb patch = patch_radiosity[std::size_t(i)];
         const Rgb smooth = interpolate(mesh, std::size_t(i), r.position, at_vertex);
-        const double ep = std::abs(patch.luminance() - ref) / ref, es = std::abs(smooth.luminance() - ref) / ref;
+        s.patch_error.back() = (patch.luminance() - ref) / ref;
+        s.smooth_error.back() = (smooth.luminance() - ref) / ref;
+        const double ep = std::abs(s.patch_error.back()), es = std::abs(s.smooth_error.back());
         sum_patch += ep * ep;
         sum_smooth += es * es;
         s.max_patch = std::max(s.max_patch, ep);

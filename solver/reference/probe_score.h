@@ -23,6 +23,9 @@ struct ProbeScore {
     std::size_t scored = 0;        // probes with a value, on a patch, and lit
     std::size_t skipped = 0;       // probes without a value, dark (B_ref below 1e-3 of the median), or on no patch
     double reference_noise = 0.0;  // RMS of the probes' relative standard errors (luminance): the floor of any score
+    /// Per probe, in the reference's order: signed relative luminance errors (B - B_ref) / B_ref of
+    /// the patch value and of the point data; NaN for a skipped probe.
+    std::vector<double> patch_error, smooth_error;
 };
 
 /// Per-vertex radiosity: the area-weighted mean of the patches around each vertex (the
@@ -32,7 +35,9 @@ std::vector<Rgb> vertex_radiosity(const PatchMesh& mesh, std::span<const Rgb> pa
 /// Scores a solution on `mesh` (radiosity per patch) at the reference points. A probe lies on
 /// a patch when it is within 1e-6 of the scene size of the patch's plane, inside its polygon,
 /// and the normals agree.
+/// `point_values`, when it has one value per mesh vertex, is the point data (gathered values);
+/// otherwise the point data is vertex_radiosity(mesh, patch_radiosity).
 ProbeScore score_at_probes(const PatchMesh& mesh, std::span<const Rgb> patch_radiosity,
-                           std::span<const ReferencePoint> reference);
+                           std::span<const ReferencePoint> reference, std::span<const Rgb> point_values = {});
 
 }  // namespace bounce

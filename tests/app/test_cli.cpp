@@ -2,7 +2,13 @@
 // The real program, run as a user runs it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 
 #include "test_util.h"
 
@@ -17,6 +23,31 @@ test::RunResult bounce_run(const std::string& args) { return test::run(kExe + " 
 std::string slurp(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// A text field of an ASCII .vtu: VTK writes char and string arrays alike as the codes of
+/// their bytes (strings end in 0).
+std::string ascii_field_text(const std::string& vtu, const std::string& name) {
+    const auto at = vtu.find("Name=\"" + name + "\"");
+    if (at == std::string::npos) return "<no field " + name + ">";
+    std::istringstream in(vtu.substr(vtu.find('>', at) + 1));
+    std::string text;
+    int code = 0;
+    while (in >> code && code != 0) text += char(code);
+    return text;
+}
+
+/// The values of a cell array of an ASCII .vtu, in order.
+std::vector<double> ascii_cell_array(const std::string& vtu, const std::string& name) {
+    const auto cells = vtu.find("<CellData");
+    const auto at = vtu.find("Name=\"" + name + "\"", cells);
+    std::vector<double> v;
+    if (cells == std::string::npos || at == std::string::npos) return v;
+    const auto begin = vtu.find('>', at) + 1;
+    std::istringstream in(vtu.substr(begin, vtu.find('<', begin) - begin));
+    double x;
+    while (in >> x) v.push_back(x);
+    return v;
 }
 
 int lines(const std::string& s) {
@@ -59,6 +90,20 @@ TEST(Cli, SolvesTheCornellBoxAndWritesAVtu) {
     EXPECT_EQ(q.exit_code, 0);
     EXPECT_EQ(q.out, "");
     EXPECT_EQ(q.err, "");
+}
+
+TEST(Cli, TheDefaultRunIsQuietOnStderrAndPassesStrict) {
+    // A new user's first command: nothing on stderr (no warning about the built-in scene),
+    // stdout the summary and the `wrote` line; --strict accepts the built-in box.
+    test::TempDir dir;
+    const auto r = bounce_run("solve -o " + (dir / "cornell.vtu").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_EQ(lines(r.out), 2) << r.out;
+    EXPECT_NE(r.out.find("wrote " + (dir / "cornell.vtu").string()), std::string::npos) << r.out;
+    const auto strict = bounce_run("solve --strict --max-area 4000 -o " + (dir / "strict.vtu").string());
+    EXPECT_EQ(strict.exit_code, 0) << strict.err;
+    EXPECT_EQ(strict.err, "");
 }
 
 TEST(Cli, SolvesTheObjFixtureAndReportsInfo) {
@@ -110,7 +155,7 @@ TEST(Cli, BadInputGivesOneLineExitTwoAndNoOutput) {
         {dir.write("zero.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").string(), "empty scene"},
         {dir.write("binary.obj", std::string("v 1 2 3\n\0\0\xff", 11)).string(), "binary"},
         {dir.path().string() + "/sub.obj", "directory"},
-        {dir.write("scene.stl", "solid x\n").string(), "unknown scene type"},
+        {dir.write("scene.stl", "solid x\n").string(), "unknown scene type, got '.stl'"},
         {dir.write("key.json", R"({"objects": [{"type": "quad", "size": 2}]})").string(), "unknown key 'size'"},
         {dir.write("syntax.json", "{\"objects\": [\n").string(), "syntax.json"},
         {dir.write("dark.json", R"({"objects": [{"type": "box", "inward": true}]})").string(), "emits no light"},
@@ -254,6 +299,29 @@ TEST(Cli, InterruptWritesTheSolutionSoFarMarkedNotConverged) {
     }
 }
 
+TEST(Cli, InterruptingTheDirectSolverActsWithinTwoSecondsAndTheFileSaysSo) {
+    // 4000 patches, analytic form factors (the matrix takes a few seconds), then an LU of
+    // about 20 s; the signal comes at 6 s, inside the factorisation. The shell prints the
+    // times of the signal and of the exit in nanoseconds.
+    test::TempDir dir;
+    const auto out = dir / "direct.vtu";
+    const auto r = test::run("sh -c '" + kExe + " solve --solver direct --form-factors analytic --patches 4000 -q --ascii -o " +
+                             out.string() +
+                             " & pid=$!; sleep 6; date +%s%N; kill -INT $pid; wait $pid; code=$?; date +%s%N; exit $code'");
+    EXPECT_EQ(r.exit_code, 130) << r.err;
+    std::istringstream times(r.out);
+    long long sent = 0, done = 0;
+    ASSERT_TRUE(times >> sent >> done) << r.out;
+    const double seconds = double(done - sent) * 1e-9;
+    std::printf("direct solver, 4000 patches: exit %.3f s after SIGINT\n", seconds);
+    EXPECT_LT(seconds, 2.0);
+    EXPECT_NE(r.err.find("status = interrupted, converged = 0"), std::string::npos) << r.err;
+    if (std::filesystem::exists(out)) {
+        EXPECT_EQ(ascii_field_text(slurp(out), "status"), "interrupted");
+    }
+    EXPECT_TRUE(no_temporaries(dir.path()));
+}
+
 TEST(Cli, ASecondSignalExitsAtOnceWithoutAPartialFile) {
     test::TempDir dir;
     const auto out = dir / "twice.vtu";
@@ -275,10 +343,10 @@ TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
     const std::vector<Case> cases = {
         {"--max-area 0", "must be a number > 0"},
         {"--max-edge -3", "must be a number > 0"},
-        {"--max-area 1e-6", "1.93746e+12 patches"},                       // ~10^12 patches
+        {"--max-area 1e-6", "1.93745e+12 patches"},                       // ~10^12 patches
         {"--hemicube-res 1000000 --form-factors hemicube", "--hemicube-res"},
         {"--form-factors hemicube --hemicube-res 4096 --max-memory 100", "hemicube buffers"},
-        {"--max-area 4000 --max-memory 1 --solver jacobi", "form-factor matrix (537 patches) needs about 1.1 MB"},
+        {"--max-area 4000 --max-memory 1 --solver jacobi", "form-factor matrix ("},
         {"--max-area 4000 --max-memory 3 --solver direct", "direct solver"},
         {"--max-memory 1", "more than the limit of 1024"},
     };
@@ -351,21 +419,138 @@ TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
 
 TEST(Cli, CompareMeshesWritesRowsForEveryMethodAgainstOneReference) {
     test::TempDir dir;
-    const auto r = bounce_run("compare --meshes --reference-level 3 --out " + dir.path().string());
+    const auto r = bounce_run("compare --meshes --reference-level 3 --patch-counts 250 --out " + dir.path().string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string csv = slurp(dir / "meshes.csv");
-    EXPECT_EQ(csv.rfind("method,setting,elements,links,seconds,rms_error\n", 0), 0u);
-    for (const char* method : {"\nreference,", "\nuniform,", "\nadaptive,", "\nhierarchical,"})
+    EXPECT_EQ(csv.rfind("method,setting,elements,links,seconds,rms_error,probe_rms_patch,", 0), 0u);
+    for (const char* method : {"\nreference,", "\nuniform,", "\npatches,", "\nadaptive,", "\nhierarchical,"})
         EXPECT_NE(csv.find(method), std::string::npos) << method;
-    EXPECT_EQ(lines(csv), 1 + 1 + 3 + 5 + 3);
+    EXPECT_EQ(lines(csv), 1 + 1 + 3 + 1 + 5 + 3);
     EXPECT_TRUE(std::filesystem::exists(dir / "meshes.png"));
     // Uniform refinement gets closer to the reference at every level.
     double last = 1e9;
     std::size_t at = 0;
     while ((at = csv.find("\nuniform,", at + 1)) != std::string::npos) {
-        const auto end = csv.find('\n', at + 1);
-        const double rms = std::stod(csv.substr(csv.rfind(',', end) + 1, end - csv.rfind(',', end) - 1));
+        // rms_error: the sixth column.
+        std::size_t field = at + 1;
+        for (int k = 0; k < 5; ++k) field = csv.find(',', field) + 1;
+        const double rms = std::stod(csv.substr(field, csv.find(',', field) - field));
         EXPECT_LT(rms, last);
         last = rms;
     }
+}
+
+TEST(Cli, FacesWoundTheWrongWayAreReportedAndFlipTurnsThemBack) {
+    // A closed 4 x 3 x 4 room lit by a lamp under the ceiling, and the same file with every
+    // face's vertices reversed (the most common OBJ mistake).
+    test::TempDir dir;
+    dir.write("room.mtl", "newmtl white\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.6 0.1 0.1\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
+    const std::string vertices =
+        "mtllib room.mtl\nv 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nv 0 3 0\nv 4 3 0\nv 4 3 4\nv 0 3 4\n"
+        "v 1.5 2.99 1.5\nv 2.5 2.99 1.5\nv 2.5 2.99 2.5\nv 1.5 2.99 2.5\n";
+    const std::vector<std::string> faces = {"usemtl white", "f 1 4 3 2", "f 5 6 7 8", "f 1 2 6 5", "f 4 8 7 3",
+                                            "f 2 3 7 6",    "usemtl red", "f 1 5 8 4", "usemtl lamp", "f 9 10 11 12"};
+    std::string right = vertices, wrong = vertices;
+    for (const auto& f : faces) {
+        right += f + "\n";
+        if (f[0] != 'f') {
+            wrong += f + "\n";
+            continue;
+        }
+        std::istringstream in(f.substr(2));
+        std::vector<std::string> idx{std::istream_iterator<std::string>(in), {}};
+        wrong += "f";
+        for (auto it = idx.rbegin(); it != idx.rend(); ++it) wrong += " " + *it;
+        wrong += "\n";
+    }
+    const auto run = [&](const std::string& file, const std::string& text, const std::string& flags) {
+        const auto scene = dir.write(file, text);
+        const auto out = dir / (file + std::to_string(flags.size()) + ".vtu");
+        auto r = bounce_run("solve " + scene.string() + " --patches 300 --ascii " + flags + " -o " + out.string());
+        return std::pair{r, ascii_cell_array(slurp(out), "radiosity")};
+    };
+    const auto [ok, b_right] = run("room.obj", right, "");
+    ASSERT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_EQ(ok.err.find("orientation"), std::string::npos) << ok.err;
+    const auto [bad, b_wrong] = run("reversed.obj", wrong, "");
+    EXPECT_EQ(bad.exit_code, 0) << bad.err;
+    EXPECT_EQ(lines(bad.err), 1) << bad.err;
+    EXPECT_NE(bad.err.find("orientation"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("100% of the emitted power escapes"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("reversed.obj:23 (default) reaches no surface"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("--flip"), std::string::npos) << bad.err;
+    const auto [flipped, b_flipped] = run("reversed.obj", wrong, "--flip");
+    EXPECT_EQ(flipped.exit_code, 0) << flipped.err;
+    EXPECT_EQ(flipped.err.find("orientation"), std::string::npos) << flipped.err;
+    ASSERT_EQ(b_right.size(), b_flipped.size());
+    ASSERT_EQ(b_right.size(), b_wrong.size());
+    ASSERT_GT(b_right.size(), 300u * 3 / 2);
+    double worst = 0.0, lit_right = 0.0, lit_wrong = 0.0;
+    for (std::size_t k = 0; k < b_right.size(); ++k) {
+        worst = std::max(worst, std::abs(b_right[k] - b_flipped[k]) / std::max(1e-12, std::abs(b_right[k])));
+        if (b_wrong[k] == 10.0) continue;  // the lamp, E = 10
+        lit_right += b_right[k];
+        lit_wrong += b_wrong[k];
+    }
+    EXPECT_LT(worst, 1e-9);
+    // As wound wrongly, the walls get nothing at all; wound right, they are lit.
+    EXPECT_EQ(lit_wrong, 0.0);
+    EXPECT_GT(lit_right, 10.0);
+}
+
+TEST(Cli, ViewWithoutADisplayIsAClearErrorAtOnce) {
+    // Before: an invisible window on a private Xvfb, and a hang with no message.
+    const auto start = std::chrono::steady_clock::now();
+    const auto r = test::run("env -u DISPLAY timeout 10 " + kExe + " view " + test::fixture("cornell_box.obj").string());
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_LT(seconds, 2.0);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("error: view: no display, DISPLAY is unset"), std::string::npos) << r.err;
+}
+
+TEST(Cli, TheFirstHourPapercuts) {
+    test::TempDir dir;
+    // An unknown command names itself and lists the real ones.
+    const auto unknown = bounce_run("frobnicate");
+    EXPECT_EQ(unknown.exit_code, 2);
+    EXPECT_EQ(lines(unknown.err), 1) << unknown.err;
+    EXPECT_NE(unknown.err.find("error: command line: unknown command, got 'frobnicate' (expected one of solve, "
+                               "form-factors, compare, render, view, info, reference"),
+              std::string::npos)
+        << unknown.err;
+    // --help shows the defaults of the form-factor options.
+    const auto help = bounce_run("solve --help");
+    for (const std::string d : {"pair (raycast; 4)", "adaptive (0)", "even (256)", "rotations (1)", "(MB; 2048)"})
+        EXPECT_NE(help.out.find(d), std::string::npos) << d;
+    // .off given directly loads (white 0.5, with a warning: the format has no materials).
+    const auto off = dir.write("tri.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+    const auto info = bounce_run("info " + off.string() + " --patches 100");
+    EXPECT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_NE(info.out.find("surfaces:       2"), std::string::npos) << info.out;
+    EXPECT_NE(info.err.find("no material"), std::string::npos) << info.err;
+    // info lists the surfaces, each with its material and where it came from: the built-in
+    // box's red wall is two lines (two triangles).
+    const auto box = bounce_run("info --max-area 4000");
+    EXPECT_EQ(box.exit_code, 0) << box.err;
+    int red = 0;
+    for (std::size_t at = 0; (at = box.out.find("  red  cornell box: red wall", at)) != std::string::npos; ++at) ++red;
+    EXPECT_EQ(red, 2) << box.out;
+    EXPECT_NE(box.out.find("light (emits (17, 12, 4))  cornell box: light"), std::string::npos) << box.out;
+    // A large meshing is announced before it is made.
+    const auto many = bounce_run("info --max-area 20");
+    EXPECT_EQ(many.exit_code, 0) << many.err;
+    EXPECT_NE(many.err.find("note: meshing into 9"), std::string::npos) << many.err;
+    // render -o x.jpg writes JPEG bytes; an unknown picture format is refused before work.
+    const auto vtu = dir / "small.vtu";
+    ASSERT_EQ(bounce_run("solve -q --max-area 8000 -o " + vtu.string()).exit_code, 0);
+    const auto jpg = bounce_run("render " + vtu.string() + " -o " + (dir / "x.jpg").string() + " --size 64x64");
+    EXPECT_EQ(jpg.exit_code, 0) << jpg.err;
+    const std::string bytes = slurp(dir / "x.jpg");
+    ASSERT_GE(bytes.size(), 3u);
+    EXPECT_EQ(bytes.substr(0, 3), std::string("\xff\xd8\xff"));
+    const auto bmp = bounce_run("render " + vtu.string() + " -o " + (dir / "x.bmp").string());
+    EXPECT_EQ(bmp.exit_code, 2);
+    EXPECT_NE(bmp.err.find("picture format, got '.bmp' (expected .png, .jpg or .jpeg)"), std::string::npos) << bmp.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.bmp"));
 }

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <glm/geometric.hpp>
 
 #include "mesh/cornell_box.h"
@@ -155,7 +157,9 @@ TEST(JsonScene, PlacesMeshFilesFromObjAndOff) {
 
 TEST(CornellBox, MatchesThePublishedDataAndFacesInwards) {
     const Scene s = make_cornell_box();
-    EXPECT_EQ(s.surfaces.size(), 6u + 2 * 5u);
+    // Six surfaces of the room (the red wall as two triangles), five per block.
+    EXPECT_EQ(s.surfaces.size(), 7u + 2 * 5u);
+    double red_area = 0.0;
     const V inside(278, 274, 280);
     for (const auto& f : s.surfaces) {
         const V n = glm::normalize(newell_normal(f.vertices));
@@ -172,8 +176,33 @@ TEST(CornellBox, MatchesThePublishedDataAndFacesInwards) {
         }
         if (f.object == "red wall") {
             EXPECT_EQ(s.materials[f.material].reflectance, Rgb(0.63, 0.065, 0.05));
+            red_area += polygon_area(f.vertices);
         }
+        // Every face exactly planar: no vertex more than rounding off the face's plane.
+        for (const auto& v : f.vertices) EXPECT_LT(std::abs(glm::dot(v - c, n)), 1e-9) << f.object;
     }
+    // The two triangles are the fan of the published corners (552.8,0,0) (549.6,0,559.2)
+    // (556,548.8,559.2) (556,548.8,0), computed independently: 306904.514 mm^2.
+    EXPECT_NEAR(red_area, 306904.514, 1e-3);
+    // Loading it warns about nothing (the published red wall used to be flattened).
+    const Scene loaded = load_scene("cornell");
+    EXPECT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
+    EXPECT_EQ(loaded.units, "mm");
+}
+
+TEST(GeometryCheck, WarningsNameTheFaceOnceAndCarryUnits) {
+    test::TempDir dir;
+    // 1 x 1 quad with a corner 0.005 off: flattened (0.5% of its size), with a warning.
+    const auto f = dir.write("w.obj", "o slab\nv 0 0 0\nv 1 0 0\nv 1 1 0.005\nv 0 1 0\nf 1 2 3 4\n");
+    const Scene s = load_scene(f.string());
+    ASSERT_EQ(s.warnings.size(), 2u);  // and one for the missing material
+    const std::string& w = s.warnings[1];
+    EXPECT_NE(w.find("w.obj:6 (slab): face off its plane"), std::string::npos) << w;
+    EXPECT_EQ(w.find("slab", w.find("slab") + 1), std::string::npos) << "named once: " << w;
+    // The corner is 0.005 above the other three; the Newell plane through the centroid
+    // leaves it 0.005 / 3 away, 0.17% of the unit edge.
+    EXPECT_NE(w.find("by 0.00167 scene units (0.17% of its longest edge)"), std::string::npos) << w;
+    EXPECT_EQ(describe({"cornell box: red wall", 0}, "red wall"), "cornell box: red wall");
 }
 
 TEST(GeometryCheck, CrossingFacesAreReportedAndTouchingOnesAreNot) {

@@ -76,9 +76,13 @@ class Files(unittest.TestCase):
         self.assertGreaterEqual(len(sets), 2)
         steps = [int(s.get("timestep")) for s in sets]
         self.assertEqual(steps, sorted(steps))
-        self.assertEqual(steps[0], 500)
-        final = vtk_to_numpy(vtk_read(self.vtu).GetCellData().GetArray("radiosity"))
+        # Step 0 (B = E) first, then every 500 shots, then the final solution.
+        self.assertEqual(steps[:3], [0, 500, 1000])
+        final_grid = vtk_read(self.vtu)
+        final = vtk_to_numpy(final_grid.GetCellData().GetArray("radiosity"))
+        final_unshot = final_grid.GetFieldData().GetArray("unshot_fraction").GetValue(0)
         previous = None
+        fractions, seconds = [], []
         for s in sets:
             path = os.path.join(TMP, s.get("file"))
             count, radiosity, _ = meshio_cells_and_radiosity(path)
@@ -87,7 +91,27 @@ class Files(unittest.TestCase):
                 # Shooting only adds light: every later snapshot is at least as bright.
                 self.assertTrue(np.all(radiosity >= previous - 1e-12))
             previous = radiosity
+            g = vtk_read(path)
+            fd = g.GetFieldData()
+            self.assertEqual(int(fd.GetArray("steps").GetValue(0)), int(s.get("timestep")))
+            fractions.append(fd.GetArray("unshot_fraction").GetValue(0))
+            seconds.append(fd.GetArray("seconds").GetValue(0))
+            # Every snapshot is a whole file: B plus the ambient term, the metadata, and an
+            # energy account that balances (emitted = absorbed + escaped + unshot).
+            self.assertIsNotNone(g.GetCellData().GetArray("radiosity_ambient"), path)
+            for name in ("scene", "solver", "form_factors", "settings", "status"):
+                self.assertIsNotNone(fd.GetAbstractArray(name), f"{path}: {name}")
+            power = {k: np.array(fd.GetArray(k + "_power").GetTuple3(0))
+                     for k in ("emitted", "absorbed", "escaped", "unshot")}
+            self.assertGreater(power["emitted"].sum(), 0)
+            np.testing.assert_allclose(power["absorbed"] + power["escaped"] + power["unshot"], power["emitted"],
+                                       rtol=1e-9)
         np.testing.assert_array_equal(previous, final)
+        self.assertEqual(fractions[0], 1.0)
+        self.assertEqual(fractions[-1], final_unshot)
+        self.assertTrue(all(a > b for a, b in zip(fractions, fractions[1:])), fractions)
+        self.assertTrue(all(a <= b for a, b in zip(seconds, seconds[1:])), seconds)
+        self.assertGreater(seconds[-1], seconds[1])
 
 
 def png(path):

@@ -1,7 +1,11 @@
 #!/usr/bin/python3
-"""Charts for `bounce compare`: convergence.png (error against step and against seconds, one
-line per form-factor method and solver) and speed_vs_accuracy.png (final error against total
-time, form factors included). Reads DIR/convergence.csv. Debian's python3-matplotlib."""
+"""Charts for `bounce compare` (Debian's python3-matplotlib), from DIR/convergence.csv and DIR/runs.csv.
+
+convergence.png: solver convergence, i.e. each solver's error against the direct solution of the *same*
+  discretised matrix, by step and by seconds. It says how fast a solver reaches its matrix's answer,
+  not how close that answer is to the light of a real box.
+speed_vs_accuracy.png: total wall time (form factors + solve) against the error at the path-traced
+  probes (bounce reference): the distance to the continuous radiosity equation."""
 import csv
 import os
 import sys
@@ -11,7 +15,17 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
-import matplotlib.ticker
+import matplotlib.ticker as ticker
+
+
+def plain_ticks(ax):
+    """Decimal tick labels (0.5, 2, 30) instead of powers of ten on short log ranges."""
+    import math
+    for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+        # Minor labels (2, 3, 5) only where the axis spans too few decades for the majors to read.
+        few = lim[0] > 0 and math.log10(lim[1] / lim[0]) < 2.2
+        axis.set_minor_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}" if few and f"{v:g}"[0] in "235" else ""))
 
 
 def save(fig, path):
@@ -20,52 +34,84 @@ def save(fig, path):
     os.replace(tmp, path)
 
 
-def main(folder):
+def colours(n):
+    cmap = plt.get_cmap("viridis")
+    return [cmap(0.9 * k / max(1, n - 1)) for k in range(n)]
+
+
+def convergence(folder):
     rows = list(csv.DictReader(open(os.path.join(folder, "convergence.csv"))))
     runs = defaultdict(list)
     for r in rows:
         runs[(r["form_factors"], r["solver"])].append(r)
+    positive = [float(r["rms_error"]) for r in rows if r["rms_error"] and float(r["rms_error"]) > 0]
+    floor = min(positive) / 10 if positive else 1e-12
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.8), dpi=100)
-    for (ff, solver), recs in runs.items():
+    markers = "osD^v<>p*h"
+    for k, ((ff, solver), recs) in enumerate(runs.items()):
+        colour = colours(len(runs))[k]
         pts = [(int(r["step"]), float(r["seconds"]), float(r["rms_error"])) for r in recs if r["rms_error"]]
-        pts = [p for p in pts if p[2] > 0]
         if not pts:
             continue
         label = f"{solver} ({ff})"
-        style = "o-" if len(pts) == 1 else "-"
-        a.plot([max(p[0], 1) for p in pts], [p[2] for p in pts], style, label=label)
-        b.plot([max(p[1], 1e-4) for p in pts], [p[2] for p in pts], style, label=label)
-    for ax, xlabel in ((a, "step (shots or sweeps)"), (b, "seconds (solver only)")):
+        if all(p[2] == 0 for p in pts):
+            # The direct solution is the reference itself: exact for its matrix. Marked on the floor of
+            # the axis with its own symbol, not plotted at a fake error.
+            label += ": exact for its matrix (on the floor)"
+            for ax, x in ((a, max(pts[-1][0], 1)), (b, max(pts[-1][1], 1e-4))):
+                ax.plot([x], [floor], marker="*", markersize=14, linestyle="none", color=colour, label=label)
+            continue
+        pts = [p for p in pts if p[2] > 0]
+        a.plot([max(p[0], 1) for p in pts], [p[2] for p in pts], "-", marker=markers[k % len(markers)],
+               markevery=max(1, len(pts) // 8), color=colour, label=label)
+        b.plot([max(p[1], 1e-4) for p in pts], [p[2] for p in pts], "-", marker=markers[k % len(markers)],
+               markevery=max(1, len(pts) // 8), color=colour, label=label)
+    for ax, xlabel in ((a, "step (shots or sweeps)"), (b, "solver seconds (form factors not included)")):
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel(xlabel)
-        ax.set_ylabel("relative RMS error against the reference")
+        ax.set_ylabel("relative RMS error against the direct solution\n(same matrix, dimensionless)")
         ax.grid(True, which="both", alpha=0.3)
-    a.legend(fontsize=8)
-    fig.suptitle("Convergence")
+    a.legend(fontsize=7, loc="lower left")
+    fig.suptitle("Solver convergence: how fast each solver reaches its own matrix's answer")
     fig.tight_layout()
     save(fig, os.path.join(folder, "convergence.png"))
 
-    fig, ax = plt.subplots(figsize=(7, 5), dpi=100)
-    for (ff, solver), recs in runs.items():
-        last = recs[-1]
-        if not last["rms_error"]:
-            continue
-        t = float(last["seconds"]) + float(last["form_factor_seconds"])
-        e = max(float(last["rms_error"]), 1e-16)
-        ax.scatter([t], [e], s=40)
-        ax.annotate(f"{solver} ({ff})", (t, e), fontsize=8, xytext=(4, 4), textcoords="offset points")
+
+def speed_vs_accuracy(folder):
+    path = os.path.join(folder, "runs.csv")
+    if not os.path.exists(path):
+        return
+    rows = list(csv.DictReader(open(path)))
+    fig, ax = plt.subplots(figsize=(8, 5.5), dpi=100)
+    cs = colours(len(rows))
+    for k, r in enumerate(rows):
+        t = float(r["total_seconds"])
+        label = f"{r['solver']} ({r['form_factors']})"
+        ax.plot([t], [float(r["probe_rms_smooth"]) * 100], "o", color=cs[k], markersize=8,
+                label=label + ": point data")
+        ax.plot([t], [float(r["probe_rms_patch"]) * 100], "s", color=cs[k], markersize=8, fillstyle="none",
+                label=label + ": patch values")
+    noise = [float(r["reference_noise"]) * 100 for r in rows if r["reference_noise"]]
+    if noise:
+        ax.axhline(max(noise), color="grey", linestyle="--", label="noise of the path-traced reference")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.xaxis.set_major_locator(matplotlib.ticker.LogLocator(subs="all"))
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%.3g"))
-    ax.set_xlabel("total seconds (form factors + solve)")
-    ax.set_ylabel("final relative RMS error against the reference")
-    ax.set_title("Speed against accuracy (exact: plotted at 1e-16)")
+    ax.set_xlabel("total wall time, s (form factors + solve)")
+    ax.set_ylabel("RMS relative luminance error at the probes, %")
+    patches = rows[0]["patches"] if rows else "?"
+    ax.set_title(f"Speed against accuracy, {patches} patches, against {rows[0]['probe_points'] if rows else 0} "
+                 "path-traced probes")
     ax.grid(True, which="both", alpha=0.3)
+    plain_ticks(ax)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     fig.tight_layout()
     save(fig, os.path.join(folder, "speed_vs_accuracy.png"))
+
+
+def main(folder):
+    convergence(folder)
+    speed_vs_accuracy(folder)
 
 
 if __name__ == "__main__":

@@ -1,4 +1,7 @@
-"""meshes.png from meshes.csv (bounce compare --meshes): RMS error against elements and seconds."""
+#!/usr/bin/python3
+"""meshes.png from meshes.csv (bounce compare --meshes): the error at the path-traced probes against
+elements and against total wall time, one line per method; point data (what ParaView shows) solid,
+patch values dashed; the reference's own noise as a floor. Debian's python3-matplotlib."""
 import csv
 import os
 import sys
@@ -7,25 +10,54 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import matplotlib.ticker as ticker
+
+
+def plain_ticks(ax):
+    """Decimal tick labels (0.5, 2, 30) instead of powers of ten on short log ranges."""
+    import math
+    for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+        # Minor labels (2, 3, 5) only where the axis spans too few decades for the majors to read.
+        few = lim[0] > 0 and math.log10(lim[1] / lim[0]) < 2.2
+        axis.set_minor_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}" if few and f"{v:g}"[0] in "235" else ""))
 
 folder = sys.argv[1]
 rows = list(csv.DictReader(open(os.path.join(folder, "meshes.csv"))))
-fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5))
-for method, style in [("uniform", "o-"), ("adaptive", "s-"), ("hierarchical", "^-")]:
-    pts = sorted((int(r["elements"]), float(r["seconds"]), float(r["rms_error"])) for r in rows if r["method"] == method)
+fig, (a, b) = plt.subplots(1, 2, figsize=(13, 5))
+cmap = plt.get_cmap("viridis")
+methods = [("patches", "o", "uniform patches (every patch shoots)"),
+           ("uniform", "s", "uniform elements (60 patches shoot)"),
+           ("adaptive", "D", "adaptive elements"),
+           ("hierarchical", "^", "hierarchical")]
+for k, (method, marker, name) in enumerate(methods):
+    pts = sorted((int(r["elements"]), float(r["seconds"]), float(r["probe_rms_smooth"]) * 100,
+                  float(r["probe_rms_patch"]) * 100) for r in rows if r["method"] == method)
     if not pts:
         continue
-    a.loglog([p[0] for p in pts], [p[2] for p in pts], style, label=method)
-    b.loglog([p[1] for p in pts], [p[2] for p in pts], style, label=method)
-a.set_xlabel("elements")
-b.set_xlabel("seconds (form factors and solve)")
-for ax in (a, b):
-    ax.set_ylabel("relative RMS error against the fine reference")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    colour = cmap(0.85 * k / (len(methods) - 1))
+    for ax, x in ((a, 0), (b, 1)):
+        ax.loglog([p[x] for p in pts], [p[2] for p in pts], "-", marker=marker, color=colour,
+                  label=name + ": point data")
+        ax.loglog([p[x] for p in pts], [p[3] for p in pts], "--", marker=marker, fillstyle="none", color=colour,
+                  label=name + ": patch values")
 ref = next((r for r in rows if r["method"] == "reference"), None)
-fig.suptitle("Cornell box: error against mesh size and time" +
-             (f" (reference: {ref['elements']} uniform elements)" if ref else ""))
+if ref:
+    for ax, x in ((a, float(ref["elements"])), (b, float(ref["seconds"]))):
+        ax.plot([x], [float(ref["probe_rms_smooth"]) * 100], "*", color="black", markersize=12,
+                label=f"fine uniform elements ({ref['elements']})")
+noise = [float(r["reference_noise"]) * 100 for r in rows if r.get("reference_noise")]
+for ax in (a, b):
+    if noise:
+        ax.axhline(max(noise), color="grey", linestyle=":", label="noise of the path-traced reference")
+    ax.set_ylabel("RMS relative luminance error at the probes, %")
+    ax.grid(True, which="both", alpha=0.3)
+    plain_ticks(ax)
+a.set_xlabel("elements (patches)")
+b.set_xlabel("total wall time, s (form factors + solve)")
+b.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
+probes = rows[0]["probe_points"] if rows else "?"
+fig.suptitle(f"Error against mesh size and time, scored at {probes} path-traced probes")
 fig.tight_layout()
 out = os.path.join(folder, "meshes.png")
 fig.savefig(out + ".tmp.png", dpi=110)

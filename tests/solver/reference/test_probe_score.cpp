@@ -48,4 +48,10 @@ TEST(ProbeScore, PatchAndSmoothValuesAtKnownPoints) {
     EXPECT_NEAR(sc.rms_smooth, std::sqrt(0.0625 / 2), 1e-12);
     EXPECT_NEAR(sc.rms_smooth_channel.g, sc.rms_smooth, 1e-12);
     EXPECT_NEAR(sc.reference_noise, 0.01, 1e-12);
+    // Per probe, signed: the first reads low on its patch, the second high; the third is skipped.
+    ASSERT_EQ(sc.patch_error.size(), 3u);
+    EXPECT_NEAR(sc.patch_error[0], -0.2, 1e-12);
+    EXPECT_NEAR(sc.patch_error[1], 0.5, 1e-12);
+    EXPECT_NEAR(sc.smooth_error[1], 0.25, 1e-12);
+    EXPECT_TRUE(std::isnan(sc.patch_error[2]));
 }

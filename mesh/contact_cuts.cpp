@@ -1,0 +1,318 @@
+// SPDX-License-Identifier: MIT
+#include "mesh/contact_cuts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <optional>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <glm/geometric.hpp>
+
+#include "mesh/polygon.h"
+
+namespace bounce {
+namespace {
+
+using V = glm::dvec3;
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Triangles = std::vector<K::Triangle_3>;
+using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+
+K::Point_3 to_cgal(const V& p) { return {p.x, p.y, p.z}; }
+
+/// The part of convex `poly` on the side of the line through `a` (in the plane) where
+/// dot(m, x - a) * side >= 0. Vertices within `eps` of the line belong to both sides. Crossing
+/// points are computed from the edge's endpoints in a fixed (lexicographic) order, so the two
+/// patches that share an edge get bit-identical points.
+std::vector<V> clip_half_plane(const std::vector<V>& poly, const V& a, const V& m, double side, double eps) {
+    std::vector<V> out;
+    const std::size_t n = poly.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        const V& cur = poly[i];
+        const V& nxt = poly[(i + 1) % n];
+        const double dc = glm::dot(m, cur - a) * side, dn = glm::dot(m, nxt - a) * side;
+        if (dc >= -eps) out.push_back(cur);
+        if ((dc > eps && dn < -eps) || (dc < -eps && dn > eps)) {
+            const bool swap = std::tie(nxt.x, nxt.y, nxt.z) < std::tie(cur.x, cur.y, cur.z);
+            const V& p0 = swap ? nxt : cur;
+            const V& p1 = swap ? cur : nxt;
+            const double d0 = glm::dot(m, p0 - a), d1 = glm::dot(m, p1 - a);
+            out.push_back(p0 + (d0 / (d0 - d1)) * (p1 - p0));
+        }
+    }
+    return out;
+}
+
+double area_of(const std::vector<V>& poly) { return poly.size() < 3 ? 0.0 : polygon_area(poly); }
+
+struct SurfaceFrame {
+    V normal{0.0}, origin{0.0};
+    double area = 0.0;
+};
+
+/// Cosine-distributed directions about n on a stratified 8 x 8 grid (Malley's method).
+std::vector<V> hemisphere_directions(const V& n) {
+    const V t = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, V(1, 0, 0)) : glm::cross(n, V(0, 1, 0)));
+    const V b = glm::cross(n, t);
+    std::vector<V> out;
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j) {
+            const double u = (i + 0.5) / 8, v = (j + 0.5) / 8;
+            const double r = std::sqrt(u), phi = 2 * std::numbers::pi * v;
+            out.push_back(glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(1 - u) * n));
+        }
+    return out;
+}
+
+}  // namespace
+
+std::vector<std::vector<V>> subtract_convex(const std::vector<V>& poly, const std::vector<V>& hole, const V& normal,
+                                            double min_area) {
+    double scale = 0.0;
+    for (const auto& p : poly) scale = std::max(scale, glm::length(p - poly[0]));
+    const double eps = 1e-12 * std::max(scale, 1e-300);
+    // Q = P cut by every half-plane of the hole: the part to remove (convex).
+    std::vector<V> q = poly;
+    for (std::size_t k = 0; k < hole.size() && q.size() >= 3; ++k) {
+        const V& a = hole[k];
+        const V m = glm::cross(normal, hole[(k + 1) % hole.size()] - a);  // towards the hole's inside
+        if (glm::length(m) > 0) q = clip_half_plane(q, a, m, 1.0, eps);
+    }
+    const double removed = area_of(q), total = area_of(poly);
+    if (!(removed > min_area)) return {poly};
+    if (total - removed <= min_area) return {};
+    // Drop repeated points the clipping may leave.
+    std::vector<V> inner;
+    for (const V& v : q)
+        if (inner.empty() || glm::length(v - inner.back()) > eps) inner.push_back(v);
+    while (inner.size() > 1 && glm::length(inner.front() - inner.back()) <= eps) inner.pop_back();
+
+    // The outer cycle: P's corners with Q's points on P's edges inserted in order, so the pieces
+    // use no point that is not on P's outline or on the hole's (a neighbour sharing the edge makes
+    // the same points, and no T-vertex appears).
+    const double on_edge = 1e-9 * scale;
+    std::vector<V> outer;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+        const V& a = poly[k];
+        const V& b = poly[(k + 1) % poly.size()];
+        outer.push_back(a);
+        std::vector<std::pair<double, V>> on;
+        const V ab = b - a;
+        const double len2 = glm::dot(ab, ab);
+        for (const V& v : inner) {
+            const double t = glm::dot(v - a, ab) / len2;
+            if (t <= 1e-12 || t >= 1 - 1e-12) continue;
+            if (glm::length(a + t * ab - v) <= on_edge) on.emplace_back(t, v);
+        }
+        std::sort(on.begin(), on.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        for (const auto& [t, v] : on) outer.push_back(v);
+    }
+    // Triangulate the ring between the outer cycle and Q by merging both by angle around Q's
+    // centroid (both are star-shaped from it, Q being convex inside convex P); triangles between
+    // points where Q touches P's outline have no area and are dropped.
+    const V c = polygon_centroid(inner);
+    const V e1 = glm::normalize(poly[1] - poly[0]), e2 = glm::cross(normal, e1);
+    auto angle = [&](const V& v) {
+        const double t = std::atan2(glm::dot(v - c, e2), glm::dot(v - c, e1));
+        return t < 0 ? t + 2 * std::numbers::pi : t;
+    };
+    auto rotate_to_smallest = [&](std::vector<V>& cycle) {
+        std::size_t k0 = 0;
+        for (std::size_t k = 1; k < cycle.size(); ++k)
+            if (angle(cycle[k]) < angle(cycle[k0])) k0 = k;
+        std::rotate(cycle.begin(), cycle.begin() + std::ptrdiff_t(k0), cycle.end());
+    };
+    rotate_to_smallest(outer);
+    rotate_to_smallest(inner);
+    std::vector<std::vector<V>> pieces;
+    auto emit = [&](const V& a, const V& b, const V& d) {
+        if (glm::dot(glm::cross(b - a, d - a), normal) * 0.5 > min_area) pieces.push_back({a, b, d});
+    };
+    const std::size_t no = outer.size(), ni = inner.size();
+    std::size_t i = 0, j = 0;
+    while (i < no || j < ni) {
+        const V& oi = outer[i % no];
+        const V& ij = inner[j % ni];
+        const double next_outer = i < no ? angle(outer[(i + 1) % no]) + (i + 1 == no ? 2 * std::numbers::pi : 0.0)
+                                         : std::numeric_limits<double>::infinity();
+        const double next_inner = j < ni ? angle(inner[(j + 1) % ni]) + (j + 1 == ni ? 2 * std::numbers::pi : 0.0)
+                                         : std::numeric_limits<double>::infinity();
+        if (next_outer <= next_inner) {
+            emit(oi, outer[(i + 1) % no], ij);
+            ++i;
+        } else {
+            emit(oi, inner[(j + 1) % ni], ij);
+            ++j;
+        }
+    }
+    return pieces;
+}
+
+std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
+    const std::size_t n = scene.surfaces.size();
+    std::vector<CoveredRegion> out;
+    if (n < 2) return out;
+    V lo(std::numeric_limits<double>::infinity()), hi = -lo;
+    std::vector<SurfaceFrame> frame(n);
+    Triangles tris;
+    std::vector<int> owner;
+    for (std::size_t s = 0; s < n; ++s) {
+        const auto& poly = scene.surfaces[s].vertices;
+        for (const auto& v : poly) {
+            lo = glm::min(lo, v);
+            hi = glm::max(hi, v);
+        }
+        const V nn = newell_normal(poly);
+        const double len = glm::length(nn);
+        if (!(len > 0)) continue;
+        frame[s] = {nn / len, poly[0], 0.5 * len};
+        for (const auto& t : triangulate_polygon(poly)) {
+            tris.emplace_back(to_cgal(poly[t[0]]), to_cgal(poly[t[1]]), to_cgal(poly[t[2]]));
+            owner.push_back(int(s));
+        }
+    }
+    if (tris.empty()) return out;
+    const double diag = glm::length(hi - lo);
+    const double tol = 5e-4 * diag;  // "resting on": a gap below this is contact
+    Tree tree(tris.cbegin(), tris.cend());
+    tree.build();
+
+    // Enclosed: every ray from just above x meets the back of some surface first.
+    auto enclosed = [&](const V& x, const V& normal) {
+        const V from = x + 1e-6 * diag * normal;
+        for (const V& d : hemisphere_directions(normal)) {
+            const auto hit = tree.first_intersection(K::Ray_3(to_cgal(from), K::Vector_3(d.x, d.y, d.z)));
+            if (!hit) return false;
+            const int t = owner[std::size_t(hit->second - tris.cbegin())];
+            if (glm::dot(frame[std::size_t(t)].normal, d) <= 0) return false;  // a front face: light can come from there
+        }
+        return true;
+    };
+
+    for (std::size_t s = 0; s < n; ++s) {
+        const SurfaceFrame& S = frame[s];
+        if (!(S.area > 0)) continue;
+        const auto& spoly = scene.surfaces[s].vertices;
+        auto height = [&](const V& p) { return glm::dot(S.normal, p - S.origin); };
+        auto project = [&](const V& p) { return p - height(p) * S.normal; };
+        std::vector<std::vector<V>> candidates;
+        std::vector<std::pair<V, V>> segments;
+
+        // Other surfaces near this one's slab.
+        V slo(std::numeric_limits<double>::infinity()), shi = -slo;
+        for (const auto& v : spoly) {
+            slo = glm::min(slo, v);
+            shi = glm::max(shi, v);
+        }
+        const K::Iso_cuboid_3 box(to_cgal(slo - V(tol)), to_cgal(shi + V(tol)));
+        std::vector<Primitive::Id> near;
+        tree.all_intersected_primitives(box, std::back_inserter(near));
+        std::vector<int> others;
+        for (const auto& id : near) others.push_back(owner[std::size_t(id - tris.cbegin())]);
+        std::sort(others.begin(), others.end());
+        others.erase(std::unique(others.begin(), others.end()), others.end());
+
+        for (const int t : others) {
+            if (t == int(s) || !(frame[std::size_t(t)].area > 0)) continue;
+            const auto& tpoly = scene.surfaces[std::size_t(t)].vertices;
+            double hmin = std::numeric_limits<double>::infinity(), hmax = -hmin;
+            for (const auto& v : tpoly) {
+                hmin = std::min(hmin, height(v));
+                hmax = std::max(hmax, height(v));
+            }
+            if (hmin > tol || hmax < -tol) continue;  // apart
+            if (hmin >= -tol && hmax <= tol) {
+                // Flush with this surface: it covers it when it faces the same way and lies in
+                // front (its back towards this surface's front), like a lamp under a ceiling.
+                if (glm::dot(frame[std::size_t(t)].normal, S.normal) > 0.999 && hmin + hmax >= 0) {
+                    std::vector<V> c;
+                    for (const auto& v : tpoly) c.push_back(project(v));
+                    candidates.push_back(std::move(c));
+                }
+                continue;
+            }
+            // Touches or crosses the plane: the segment it leaves there.
+            std::vector<V> pts;
+            for (std::size_t k = 0; k < tpoly.size(); ++k) {
+                const V& a = tpoly[k];
+                const V& b = tpoly[(k + 1) % tpoly.size()];
+                const double ha = height(a), hb = height(b);
+                if (std::abs(ha) <= tol) pts.push_back(project(a));
+                if ((ha > tol && hb < -tol) || (ha < -tol && hb > tol)) pts.push_back(project(a + (ha / (ha - hb)) * (b - a)));
+            }
+            if (pts.size() < 2) continue;
+            std::size_t i0 = 0, i1 = 1;
+            double best = -1;
+            for (std::size_t i = 0; i < pts.size(); ++i)
+                for (std::size_t j = i + 1; j < pts.size(); ++j)
+                    if (const double d = glm::length(pts[i] - pts[j]); d > best) {
+                        best = d;
+                        i0 = i;
+                        i1 = j;
+                    }
+            if (best > tol) segments.emplace_back(pts[i0], pts[i1]);
+        }
+
+        // Chain the segments into closed loops (endpoints meet within the tolerance).
+        std::vector<bool> used(segments.size(), false);
+        for (std::size_t first = 0; first < segments.size(); ++first) {
+            if (used[first]) continue;
+            used[first] = true;
+            std::vector<V> loop = {segments[first].first, segments[first].second};
+            bool closed = false;
+            for (std::size_t guard = 0; guard < segments.size() && !closed; ++guard) {
+                bool extended = false;
+                for (std::size_t k = 0; k < segments.size(); ++k) {
+                    if (used[k]) continue;
+                    const auto& [a, b] = segments[k];
+                    if (glm::length(a - loop.back()) <= tol) {
+                        loop.push_back(b);
+                    } else if (glm::length(b - loop.back()) <= tol) {
+                        loop.push_back(a);
+                    } else {
+                        continue;
+                    }
+                    used[k] = true;
+                    extended = true;
+                    break;
+                }
+                if (glm::length(loop.back() - loop.front()) <= tol && loop.size() > 3) {
+                    loop.pop_back();
+                    closed = true;
+                }
+                if (!extended) break;
+            }
+            if (closed) candidates.push_back(std::move(loop));
+        }
+
+        for (auto& c : candidates) {
+            if (c.size() < 3) continue;
+            if (glm::dot(newell_normal(c), S.normal) < 0) std::reverse(c.begin(), c.end());
+            if (!(area_of(c) > tol * tol)) continue;
+            const auto tri = triangulate_polygon(c);
+            bool covered = !tri.empty();
+            for (std::size_t k = 0; k < tri.size() && k < 4 && covered; ++k)
+                covered = enclosed((c[tri[k][0]] + c[tri[k][1]] + c[tri[k][2]]) / 3.0, S.normal);
+            if (!covered) continue;
+            // Convex loops stay whole; others go as their (convex) triangles.
+            bool convex = true;
+            for (std::size_t k = 0; k < c.size() && convex; ++k)
+                convex = glm::dot(glm::cross(c[(k + 1) % c.size()] - c[k], c[(k + 2) % c.size()] - c[(k + 1) % c.size()]),
+                                  S.normal) >= -1e-12 * diag * diag;
+            if (convex) {
+                out.push_back({int(s), c});
+            } else {
+                for (const auto& t : tri) out.push_back({int(s), {c[t[0]], c[t[1]], c[t[2]]}});
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace bounce

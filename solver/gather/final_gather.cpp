@@ -1,0 +1,122 @@
+// SPDX-License-Identifier: MIT
+#include "solver/gather/final_gather.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
+
+#include "solver/form_factors/patch_sampling.h"
+#include "solver/form_factors/point_polygon_form_factor.h"
+
+namespace bounce {
+
+std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
+                              const Visibility& visibility, std::span<const GatherPoint> points,
+                              const GatherOptions& options, const std::atomic<bool>* cancel,
+                              const std::function<void(std::size_t, std::size_t)>& progress) {
+    std::vector<Rgb> out(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) out[i] = points[i].emission;
+    std::atomic<std::size_t> done{0};
+    const double lift = visibility.offset();
+    tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
+        if (cancel && cancel->load(std::memory_order_relaxed)) return;
+        const GatherPoint& x = points[i];
+        if (x.reflectance.max() <= 0) return;  // reflects nothing: B = E
+        SplitMix64 rng{options.seed * 0x9E3779B97F4A7C15ull + i};
+        // First every patch's unoccluded factor and ray targets, then all the point's rays in one
+        // batch (traced as packets), then the sum.
+        struct Term {
+            std::size_t patch, first, count;
+            double f0;
+        };
+        thread_local std::vector<Term> terms;
+        thread_local std::vector<Visibility::Segment> segments;
+        thread_local std::vector<double> kernel;
+        thread_local std::vector<std::uint8_t> blocked;
+        terms.clear();
+        segments.clear();
+        kernel.clear();
+        const glm::dvec3 from = x.position + lift * x.normal;
+        for (std::size_t j = 0; j < patches.size(); ++j) {
+            const Patch& p = patches[j];
+            if (p.surface == x.surface || radiosity[j].max() <= 0) continue;
+            if (p.height(x.position) <= 0) continue;  // x behind p: p sends nothing its way
+            const double f0 = point_polygon_form_factor(x.position, x.normal, p.polygon());
+            if (!(f0 > 0)) continue;
+            // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
+            const int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
+            const int side = std::max(1, int(std::lround(std::sqrt(double(want)))));
+            terms.push_back({j, segments.size(), std::size_t(side * side), f0});
+            for (int a = 0; a < side; ++a)
+                for (int b = 0; b < side; ++b) {
+                    const glm::dvec3 y = patch_point(p, (a + rng.uniform()) / side, (b + rng.uniform()) / side);
+                    const glm::dvec3 d = y - x.position;
+                    const double r2 = glm::dot(d, d);
+                    kernel.push_back(std::max(0.0, glm::dot(x.normal, d)) * std::max(0.0, -glm::dot(p.normal, d)) /
+                                     (r2 * r2));
+                    segments.push_back({from, y + lift * p.normal});
+                }
+        }
+        blocked.resize(segments.size());
+        visibility.occluded(segments, blocked);
+        Rgb gathered;
+        for (const Term& t : terms) {
+            double open = 0, total = 0;
+            std::size_t open_rays = 0;
+            for (std::size_t s = t.first; s < t.first + t.count; ++s) {
+                total += kernel[s];
+                open += blocked[s] ? 0.0 : kernel[s];
+                open_rays += blocked[s] ? 0 : 1;
+            }
+            // All samples at zero kernel (grazing): the plain open fraction.
+            const double share = total > 0 ? open / total : double(open_rays) / double(t.count);
+            gathered += radiosity[t.patch] * (t.f0 * share);
+        }
+        out[i] = x.emission + x.reflectance * gathered;
+        const std::size_t d = ++done;
+        if (progress) progress(d, points.size());
+    });
+    return out;
+}
+
+std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {
+    const auto& patches = mesh.patches();
+    const auto& om = mesh.mesh();
+    std::vector<GatherPoint> out(om.n_vertices());
+    std::vector<glm::dvec3> towards(om.n_vertices(), glm::dvec3(0.0));
+    std::vector<double> size(om.n_vertices(), 0.0);
+    for (std::size_t i = 0; i < patches.size(); ++i) {
+        const Patch& p = patches[i];
+        for (int v : mesh.patch_vertex_indices(i)) {
+            auto& g = out[std::size_t(v)];
+            g.normal = p.normal;
+            g.surface = p.surface;
+            g.reflectance = p.reflectance;
+            g.emission = p.emission;
+            towards[std::size_t(v)] += p.centre;
+            size[std::size_t(v)] += 1.0;
+        }
+    }
+    for (std::size_t v = 0; v < out.size(); ++v) {
+        const auto q = om.point(OpenMesh::VertexHandle(int(v)));
+        const glm::dvec3 x(q[0], q[1], q[2]);
+        if (size[v] == 0) {
+            out[v].position = x;
+            continue;
+        }
+        const glm::dvec3 c = towards[v] / size[v];
+        out[v].position = x + 0.01 * (c - x);
+    }
+    return out;
+}
+
+std::vector<GatherPoint> centre_gather_points(const std::vector<Patch>& patches) {
+    std::vector<GatherPoint> out;
+    out.reserve(patches.size());
+    for (const Patch& p : patches) out.push_back({p.centre, p.normal, p.surface, p.reflectance, p.emission});
+    return out;
+}
+
+}  // namespace bounce

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// Point values by final gather: the radiosity at a point computed from the solved patches with
+// the exact point-to-polygon kernel and visibility, instead of averaged from the cells around
+// it (Lischinski, Tampieri and Greenberg 1992; Heckbert 1992 call it gathering).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mesh/patch.h"
+#include "mesh/patch_mesh.h"
+#include "mesh/rgb.h"
+#include "solver/visibility/visibility.h"
+
+namespace bounce {
+
+/// A point to gather at: on the front of input surface `surface`, with its material.
+struct GatherPoint {
+    glm::dvec3 position{0.0};
+    glm::dvec3 normal{0.0};  // unit
+    int surface = -1;        // patches of the same (planar) surface are never gathered from
+    Rgb reflectance, emission;
+};
+
+struct GatherOptions {
+    double rays_per_unit_factor = 64;  // visibility rays to a patch: ceil(F * this), at least 1
+    int max_rays = 16;                 // and at most this
+    std::uint64_t seed = 1;            // stratified ray targets; same seed, same values
+};
+
+/// B(x) = E(x) + rho(x) * sum_j F(x -> j) B_j for every point, with
+/// F(x -> j) = F0 * sum_s V_s K_s / sum_s K_s: the exact unoccluded factor F0 (Lambert's
+/// formula) times the visible share of the kernel K = cos cos' / r^2 at stratified points of
+/// patch j (a kernel-weighted, not a plain, fraction of open rays). Patches facing away, behind
+/// the point, or on the point's own surface give nothing. Parallel over points (TBB);
+/// `cancel` stops early (the remaining points keep E).
+std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
+                              const Visibility& visibility, std::span<const GatherPoint> points,
+                              const GatherOptions& options = {}, const std::atomic<bool>* cancel = nullptr,
+                              const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// The mesh's vertices as gather points: each on its surface (vertices are shared only within
+/// a surface), moved 1% of the way towards the centres of the patches around it. A vertex on
+/// a contact edge (a lamp 0.1 mm below the ceiling, a block on the floor) then takes the value
+/// just inside its cells rather than the value exactly on the edge, where a layer thinner than
+/// any patch halves it; and a vertex at a corner of the room is not evaluated on another
+/// surface's edge, where the kernel is singular.
+std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh);
+
+/// The patches' centres as gather points.
+std::vector<GatherPoint> centre_gather_points(const std::vector<Patch>& patches);
+
+}  // namespace bounce

@@ -1,0 +1,183 @@
+// SPDX-License-Identifier: MIT
+// `bounce reference` and the probe scores of `bounce compare`, run as a user runs them.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "mesh/input_error.h"
+#include "solver/reference/reference_csv.h"
+#include "test_util.h"
+
+using namespace bounce;
+
+namespace {
+
+const std::string kExe = BOUNCE_EXE;
+
+test::RunResult bounce_run(const std::string& args) { return test::run(kExe + " " + args); }
+
+std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Column `name` of every row whose column `key` equals `value`, as numbers.
+std::vector<double> column_where(const CsvTable& t, const std::string& name, const std::string& key,
+                                 const std::string& value) {
+    std::vector<double> out;
+    const int c = t.column(name), k = t.column(key);
+    for (const auto& r : t.rows)
+        if (r[std::size_t(k)] == value) out.push_back(std::stod(r[std::size_t(c)]));
+    return out;
+}
+
+}  // namespace
+
+TEST(CliReference, ProbesAreEstimatedToTheTargetAndRepeatExactly) {
+    test::TempDir dir;
+    const auto a = dir / "a.csv", b = dir / "b.csv";
+    const auto r = bounce_run("reference --probes 24 --target-error 0.02 --seed 5 -o " + a.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    ASSERT_EQ(bounce_run("reference --probes 24 --target-error 0.02 --seed 5 --threads 1 -q -o " + b.string()).exit_code, 0);
+    EXPECT_EQ(slurp(a), slurp(b));  // same seed, same numbers, on any thread count
+    const CsvTable t = read_csv(a);
+    EXPECT_EQ(t.header, (std::vector<std::string>{"x", "y", "z", "nx", "ny", "nz", "B_r", "B_g", "B_b", "se_r", "se_g",
+                                                  "se_b", "paths", "surface", "status"}));
+    ASSERT_EQ(t.rows.size(), 24u);
+    for (const auto& p : read_reference(a)) {
+        EXPECT_EQ(p.status, "converged");
+        // The luminance weights applied to the channels' errors bound the luminance's error from
+        // above (the channels move together, so the bound is nearly tight).
+        EXPECT_LE(p.standard_error.luminance(), 0.02 * 1.25 * p.radiosity.luminance());
+        EXPECT_GT(p.radiosity.luminance(), 0.0);
+        EXPECT_FALSE(p.surface.empty());
+    }
+}
+
+TEST(CliReference, PointsAreSnappedOrRefusedByRow) {
+    test::TempDir dir;
+    // Cornell box (mm): a point 1 mm above the floor, one 1 mm in front of the back wall, and a
+    // label column that must be copied through, quoted.
+    const auto good = dir.write("good.csv", "label,x,y,z,nx,ny,nz\n"
+                                            "\"floor, front\",300,1,100,0,1,0\n"
+                                            "back,280,300,558.2,0,0,-1\n");
+    const auto out = dir / "out.csv";
+    const auto r = bounce_run("reference --points " + good.string() + " --target-error 0.03 -q -o " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const CsvTable t = read_csv(out);
+    ASSERT_EQ(t.rows.size(), 2u);
+    EXPECT_EQ(t.rows[0][0], "floor, front");
+    EXPECT_EQ(t.rows[0][std::size_t(t.column("surface"))], "floor");
+    EXPECT_EQ(t.rows[1][std::size_t(t.column("surface"))], "back wall");
+
+    // 40 mm off every surface (the snap distance is 0.5% of the 950 mm diagonal, about 4.7 mm).
+    const auto far = dir.write("far.csv", "x,y,z,nx,ny,nz\n300,1,100,0,1,0\n300,40,100,0,1,0\n");
+    const auto bad = bounce_run("reference --points " + far.string() + " -o " + (dir / "far_out.csv").string());
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.err.find("far.csv:3: no surface"), std::string::npos) << bad.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "far_out.csv"));
+
+    const auto skip = bounce_run("reference --points " + far.string() + " --skip-missing --target-error 0.05 -q -o " +
+                                 (dir / "skip.csv").string());
+    ASSERT_EQ(skip.exit_code, 0) << skip.err;
+    const CsvTable s = read_csv(dir / "skip.csv");
+    EXPECT_EQ(s.rows[1][std::size_t(s.column("status"))], "missing");
+    EXPECT_EQ(s.rows[1][std::size_t(s.column("B_r"))], "");
+    EXPECT_EQ(s.rows[0][std::size_t(s.column("status"))], "converged");
+
+    const auto nan = dir.write("nan.csv", "x,y,z,nx,ny,nz\n300,1,100,0,1,0\n300,nan,100,0,1,0\n");
+    const auto n = bounce_run("reference --points " + nan.string() + " -o " + (dir / "nan_out.csv").string());
+    EXPECT_EQ(n.exit_code, 2);
+    EXPECT_NE(n.err.find("nan.csv:3: column y: not a finite number"), std::string::npos) << n.err;
+
+    EXPECT_EQ(bounce_run("reference -o " + (dir / "x.csv").string()).exit_code, 2);  // neither --points nor --probes
+    const auto missing = bounce_run("reference --points " + (dir / "none.csv").string());
+    EXPECT_EQ(missing.exit_code, 2);
+    EXPECT_NE(missing.err.find("none.csv: CSV file not found"), std::string::npos) << missing.err;
+}
+
+TEST(CliReference, CtrlCWritesWhatItHasFlagged) {
+    test::TempDir dir;
+    const auto out = dir / "int.csv";
+    const auto r = test::run("bash -c '" + kExe + " reference --probes 400 --target-error 0.0005 -q -o " + out.string() +
+                             " & pid=$!; sleep 2; kill -INT $pid; wait $pid; exit $?'");
+    EXPECT_EQ(r.exit_code, 130) << r.err;
+    ASSERT_TRUE(std::filesystem::exists(out)) << r.err;
+    const auto points = read_reference(out);
+    ASSERT_EQ(points.size(), 400u);
+    std::size_t interrupted = 0;
+    for (const auto& p : points) interrupted += p.status == "interrupted";
+    EXPECT_GT(interrupted, 0u);
+    EXPECT_NE(r.err.find("interrupted"), std::string::npos);
+}
+
+// The accuracy axis of every chart: on the default Cornell box, uniform patch meshes come closer
+// to the path-traced truth as they grow (scored on probes path traced beforehand).
+TEST(CliReference, CompareMeshesScoresUniformMeshesFallingWithSize) {
+    test::TempDir dir;
+    const auto ref = dir / "ref.csv";
+    ASSERT_EQ(bounce_run("reference --probes 64 --target-error 0.01 -q -o " + ref.string()).exit_code, 0);
+    const auto r = bounce_run("compare --meshes --reference-level 2 --patch-counts 250,500,1000,2000 --reference " +
+                              ref.string() + " --out " + dir.path().string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const CsvTable t = read_csv(dir / "meshes.csv");
+    for (const char* c : {"probe_rms_patch", "probe_max_patch", "probe_rms_smooth", "probe_max_smooth"})
+        EXPECT_GE(t.column(c), 0) << c;
+    const auto smooth = column_where(t, "probe_rms_smooth", "method", "patches");
+    const auto elements = column_where(t, "elements", "method", "patches");
+    ASSERT_EQ(smooth.size(), 4u);
+    for (std::size_t k = 1; k < smooth.size(); ++k) {
+        EXPECT_GT(elements[k], elements[k - 1]);
+        EXPECT_LT(smooth[k], smooth[k - 1]) << "at " << elements[k] << " patches";
+    }
+    // The scores are errors against an independent answer: not zero, and with contact cuts and
+    // gathered point data the default-sized mesh is within 3% (7.4% with averaged point data on
+    // uncut patches).
+    EXPECT_GT(smooth.back(), 0.003);
+    EXPECT_LT(smooth.back(), 0.03);
+    for (double n : column_where(t, "probe_points", "method", "patches")) EXPECT_GT(n, 50);
+}
+
+TEST(CliReference, CompareCachesItsOwnProbesAndScoresEveryRun) {
+    test::TempDir dir;
+    const auto r = bounce_run("compare --max-area 20000 --form-factors raycast --solvers shooting,direct --out " +
+                              dir.path().string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::filesystem::path cached;
+    for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+        if (e.path().filename().string().rfind("reference-", 0) == 0) cached = e.path();
+    ASSERT_FALSE(cached.empty());
+    EXPECT_EQ(read_reference(cached).size(), 128u);
+    const CsvTable runs = read_csv(dir / "runs.csv");
+    ASSERT_EQ(runs.rows.size(), 2u);
+    const auto a = column_where(runs, "probe_rms_patch", "form_factors", "raycast");
+    // Shooting to 1e-3 unshot and the direct solution are the same discrete answer: same score.
+    EXPECT_NEAR(a[0], a[1], 0.01);
+    EXPECT_GT(a[0], 0.01);
+    const auto again = bounce_run("compare --max-area 20000 --form-factors raycast --solvers shooting --out " +
+                                  dir.path().string());
+    ASSERT_EQ(again.exit_code, 0) << again.err;
+    EXPECT_NE(again.out.find("(cached)"), std::string::npos) << again.out;
+}
+
+TEST(CliReference, InfoReportsTheAreaLeftOutByContactCuts) {
+    auto removed = [](const std::string& out, const std::string& where) {
+        const auto at = out.find(where);
+        if (at == std::string::npos) return -1.0;
+        const auto start = out.rfind('\n', at) + 1;
+        std::istringstream line(out.substr(start, at - start));
+        double index, patches, area, cut;
+        line >> index >> patches >> area >> cut;
+        return cut;
+    };
+    const auto r = bounce_run("info");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NEAR(removed(r.out, "cornell box: ceiling"), 130.0 * 105.0, 1e-6);  // behind the light
+    EXPECT_GT(removed(r.out, "cornell box: floor"), 50000.0);                    // both footprints
+    EXPECT_EQ(removed(r.out, "cornell box: back wall"), 0.0);
+    const auto whole = bounce_run("info --no-contact-cuts");
+    ASSERT_EQ(whole.exit_code, 0) << whole.err;
+    EXPECT_EQ(removed(whole.out, "cornell box: floor"), 0.0);
+}

@@ -1,0 +1,146 @@
+// SPDX-License-Identifier: MIT
+// Contact cuts: what no light can reach is found (the blocks' footprints, the ceiling behind the
+// lamp), what light can enter is kept, and the patch mesh leaves the covered parts out without
+// cracks or T-vertices.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "mesh/contact_cuts.h"
+#include "mesh/patch_mesh.h"
+#include "mesh/polygon.h"
+#include "mesh/scene_loader.h"
+#include "mesh/validation_scenes.h"
+
+using namespace bounce;
+using V = glm::dvec3;
+
+namespace {
+
+int surface_named(const Scene& s, const std::string& name) {
+    for (std::size_t k = 0; k < s.surfaces.size(); ++k)
+        if (s.surfaces[k].object == name) return int(k);
+    return -1;
+}
+
+double perimeter(const std::vector<V>& poly) {
+    double p = 0;
+    for (std::size_t k = 0; k < poly.size(); ++k) p += glm::length(poly[(k + 1) % poly.size()] - poly[k]);
+    return p;
+}
+
+/// A 4 x 4 floor (z = 0, facing up) with a unit "chimney" of four outward walls standing on it,
+/// open at the top unless `lid`.
+Scene chimney(bool lid) {
+    Scene s;
+    s.name = "chimney";
+    s.materials = {{"white", Rgb::gray(0.5), Rgb()}};
+    s.surfaces.push_back({{{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}}, 0, "floor", {"test", 0}});
+    const std::vector<V> base = {{1, 1, 0}, {2, 1, 0}, {2, 2, 0}, {1, 2, 0}};
+    for (int k = 0; k < 4; ++k) {
+        const V a = base[std::size_t(k)], b = base[std::size_t((k + 1) % 4)];
+        // Counter-clockwise seen from outside the chimney.
+        s.surfaces.push_back({{a, b, b + V(0, 0, 1), a + V(0, 0, 1)}, 0, "side", {"test", 0}});
+    }
+    if (lid) s.surfaces.push_back({{{1, 1, 1}, {2, 1, 1}, {2, 2, 1}, {1, 2, 1}}, 0, "lid", {"test", 0}});
+    return s;
+}
+
+}  // namespace
+
+TEST(ContactCuts, CornellBlocksFootprintsAndTheCeilingBehindTheLight) {
+    const Scene s = load_scene("cornell");
+    const int floor = surface_named(s, "floor"), ceiling = surface_named(s, "ceiling");
+    ASSERT_EQ(s.covered.size(), 3u);
+    double floor_area = 0, ceiling_area = 0;
+    for (const auto& c : s.covered) {
+        EXPECT_TRUE(c.surface == floor || c.surface == ceiling) << c.surface;
+        (c.surface == floor ? floor_area : ceiling_area) += polygon_area(c.polygon);
+    }
+    // The blocks' sides are vertical, so their footprints are their tops; the lamp is 130 x 105.
+    const double tops = polygon_area(s.surfaces[std::size_t(surface_named(s, "short block top"))].vertices) +
+                        polygon_area(s.surfaces[std::size_t(surface_named(s, "tall block top"))].vertices);
+    EXPECT_NEAR(floor_area / tops, 1.0, 1e-9);
+    EXPECT_NEAR(ceiling_area, 130.0 * 105.0, 1e-6);
+}
+
+TEST(ContactCuts, AnOpenChimneyCutsNothingAClosedOneItsFootprint) {
+    EXPECT_TRUE(find_covered_regions(chimney(false)).empty());
+    const auto covered = find_covered_regions(chimney(true));
+    ASSERT_EQ(covered.size(), 1u);
+    EXPECT_EQ(covered[0].surface, 0);
+    EXPECT_NEAR(polygon_area(covered[0].polygon), 1.0, 1e-12);
+}
+
+TEST(ContactCuts, SubtractingAConvexHole) {
+    const std::vector<V> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const V up(0, 0, 1);
+    const std::vector<V> hole = {{0.25, 0.25, 0}, {0.5, 0.25, 0}, {0.5, 0.75, 0}, {0.25, 0.75, 0}};
+    const auto pieces = subtract_convex(square, hole, up, 1e-12);
+    EXPECT_EQ(pieces.size(), 8u);  // a ring between two quads: 4 + 4 triangles
+    double area = 0;
+    for (const auto& p : pieces) {
+        EXPECT_EQ(p.size(), 3u);
+        EXPECT_GT(glm::dot(newell_normal(p), up), 0.0);  // counter-clockwise, none folded over
+        area += polygon_area(p);
+    }
+    EXPECT_NEAR(area, 1 - 0.125, 1e-15);
+    // A hole over a corner: the rest is an L, triangulated from the square's corners and the
+    // hole's points only.
+    const std::vector<V> corner = {{0.5, 0.5, 0}, {1.5, 0.5, 0}, {1.5, 1.5, 0}, {0.5, 1.5, 0}};
+    double l_area = 0;
+    for (const auto& p : subtract_convex(square, corner, up, 1e-12)) {
+        l_area += polygon_area(p);
+        for (const V& v : p) EXPECT_TRUE(v.x == 0 || v.x == 1 || v.x == 0.5 || v.y == 0 || v.y == 1 || v.y == 0.5);
+    }
+    EXPECT_NEAR(l_area, 0.75, 1e-15);
+    // Apart: the square whole; covering: nothing.
+    const std::vector<V> apart = {{2, 0, 0}, {3, 0, 0}, {3, 1, 0}, {2, 1, 0}};
+    const auto same = subtract_convex(square, apart, up, 1e-12);
+    ASSERT_EQ(same.size(), 1u);
+    EXPECT_EQ(same[0], square);
+    const std::vector<V> big = {{-1, -1, 0}, {2, -1, 0}, {2, 2, 0}, {-1, 2, 0}};
+    EXPECT_TRUE(subtract_convex(square, big, up, 1e-12).empty());
+}
+
+TEST(ContactCuts, TheFloorMeshLeavesTheFootprintsOutWithoutCracks) {
+    const Scene s = load_scene("cornell");
+    const int floor = surface_named(s, "floor");
+    for (const double max_area : {0.0, 900.0}) {
+        MeshingOptions o;
+        o.max_area = max_area;
+        const PatchMesh m(s, o);
+        const auto& om = m.mesh();
+        double area = 0, boundary = 0;
+        for (std::size_t i = 0; i < m.size(); ++i) {
+            const Patch& p = m.patches()[i];
+            if (p.surface != floor) continue;
+            area += p.area;
+            // No patch lies inside a footprint.
+            for (const auto& c : s.covered) {
+                if (c.surface != floor) continue;
+                bool inside = true;
+                for (std::size_t k = 0; k < c.polygon.size() && inside; ++k)
+                    inside = glm::dot(glm::cross(c.polygon[(k + 1) % c.polygon.size()] - c.polygon[k],
+                                                 p.centre - c.polygon[k]),
+                                      p.normal) > 0;
+                EXPECT_FALSE(inside) << p.to_string();
+            }
+            const auto f = om.face_handle(int(i));
+            for (auto h = om.cfh_iter(f); h.is_valid(); ++h)
+                if (om.is_boundary(om.opposite_halfedge_handle(*h))) boundary += om.calc_edge_length(*h);
+        }
+        double covered = 0, outlines = perimeter(s.surfaces[std::size_t(floor)].vertices);
+        for (const auto& c : s.covered)
+            if (c.surface == floor) {
+                covered += polygon_area(c.polygon);
+                outlines += perimeter(c.polygon);
+            }
+        EXPECT_NEAR(area / (polygon_area(s.surfaces[std::size_t(floor)].vertices) - covered), 1.0, 1e-12);
+        // The open edges are exactly the floor's outline and the footprints' outlines: a crack or
+        // a T-vertex would add edges on both of its sides.
+        EXPECT_NEAR(boundary / outlines, 1.0, 1e-9) << "max area " << max_area;
+    }
+}
