@@ -13,6 +13,7 @@
 #include "app/progress_line.h"
 #include "app/signals.h"
 #include "mesh/patch_mesh.h"
+#include "solver/form_factors/exact_form_factor.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/visibility/visibility.h"
@@ -76,8 +77,28 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
                 if (F(i, j) >= 1e-3) recip = std::max(recip, std::abs(aij - aji) / aij);
             }
         }
+        // In a closed scene every row sums to 1; |sum - 1| is the error a furnace amplifies by
+        // 1 / (1 - rho). (Entries are stored as float: about 1e-7 of each row is rounding.)
+        double dlo = 1e300, dhi = 0, dmean = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double d = std::abs(sums[i] - 1.0);
+            dlo = std::min(dlo, d);
+            dhi = std::max(dhi, d);
+            dmean += d / double(std::max<std::size_t>(n, 1));
+        }
         std::cout << "row sums: min " << lo << ", mean " << mean << ", max " << hi << "\n"
-                  << "reciprocity |A_i F_ij - A_j F_ji| / (A_i F_ij): max " << recip
+                  << "row-sum deviation |sum_j F_ij - 1| (closed scenes): min " << dlo << ", mean " << dmean << ", max "
+                  << dhi << "\n";
+        if (const auto* exact = dynamic_cast<const ExactFormFactor*>(ff.get())) {
+            const PairTally t = exact->tally();
+            double area = 0;
+            for (const auto& p : P) area += p.area;
+            std::cout << "pairs: " << t.unoccluded << " unoccluded (exact), " << t.partial << " partially visible, "
+                      << t.hidden << " hidden; partially visible pairs carry " << t.partial_area_factor / area
+                      << " of the mean row sum, with estimated error " << t.partial_area_error / area
+                      << " (area-weighted mean per row)\n";
+        }
+        std::cout << "reciprocity |A_i F_ij - A_j F_ji| / (A_i F_ij): max " << recip
                   << " (over F_ij >= 1e-3); overall sum|A_i F_ij - A_j F_ji| / sum A_i F_ij = "
                   << (total > 0 ? diff / total : 0.0) << "\n";
     }
@@ -90,7 +111,7 @@ Command add_form_factors_command(CLI::App& app, CommonOptions& common) {
     auto ffc = std::make_shared<FormFactorCommand>();
     auto* ff_cmd = app.add_subcommand("form-factors", "compute the whole form-factor matrix and check it");
     add_meshing_options(ff_cmd, common);
-    ff_cmd->add_option("--method", ffc->method, "raycast, analytic or hemicube")
+    ff_cmd->add_option("--method", ffc->method, "raycast, exact, analytic or hemicube")
         ->check(CLI::IsMember(form_factor_methods()));
     ff_cmd->add_option("-o,--output", ffc->output, "CSV of i,j,F_ij,row_sum_i for non-zero entries");
     ff_cmd->add_flag("--check", ffc->check, "print row sums and the reciprocity error");

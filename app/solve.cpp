@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // bounce solve: radiosity of a scene, written as a .vtu (and optionally a .pvd series, a PNG
 // and a convergence log); --adaptive and --solver hierarchical solve on quadtree elements.
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -152,7 +153,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     if (!s.log_csv.empty()) check_output(s.log_csv);
 
     const bool elements = s.element_split > 1;
-    if (elements && (s.solver != "shooting" || s.method == "hemicube"))
+    if (elements && (s.solver != "shooting" || s.method == "hemicube" || s.method == "exact"))
         throw std::invalid_argument("--elements needs the shooting solver and raycast or analytic form factors");
     CommonOptions fine = o;
     fine.meshing.element_split = s.element_split;
@@ -186,7 +187,14 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         progress.finish();
     }
     if (matrix) {
-        const double bound = contraction_bound(P, matrix->row_sums());
+        // No patch can send out more than all its power: a row above 1 is form-factor error,
+        // amplified by 1 / (1 - rho) in a bright closed scene.
+        const auto sums = matrix->row_sums();
+        const double over = sums.empty() ? 0.0 : *std::max_element(sums.begin(), sums.end()) - 1.0;
+        if (over > 1e-3 && !o.quiet)
+            std::cerr << "warning: form-factor rows sum to up to 1 + " << over << " (> 1 + 1e-3); --form-factors "
+                      << "exact keeps them within 1e-6\n";
+        const double bound = contraction_bound(P, sums);
         if (bound >= 1.0 && !o.quiet)
             std::cerr << "warning: max rho_i * sum_j F_ij = " << bound
                       << " >= 1: the iteration may not converge (reflectance 1 in a closed scene, or row sums "
@@ -309,7 +317,7 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         "--cache-mb", solve->options.cache_mb,
         "shooting: memory for cached form-factor rows (MB, default 1024); rows beyond it are recomputed");
     solve_cmd->add_option("--max-matrix-mb", solve->max_matrix_mb, "refuse a matrix larger than this (MB; 2048)");
-    solve_cmd->add_option("--form-factors", solve->method, "raycast, hemicube, or analytic (no occlusion)")
+    solve_cmd->add_option("--form-factors", solve->method, "raycast, exact, hemicube, or analytic (no occlusion)")
         ->check(CLI::IsMember(form_factor_methods()));
     add_form_factor_options(solve_cmd, solve->ff);
     solve_cmd->add_flag("--ascii", solve->ascii, "write ASCII instead of compressed binary");

@@ -16,13 +16,16 @@ class Visibility;
 
 /// Settings shared by the form-factor methods.
 struct FormFactorOptions {
-    int visibility_rays = 4;         // rays per patch pair for the visible fraction (stratified)
-    double receiver_sampling = 4.0;  // receiver points per side = ceil(this * size / distance)
-    int max_receiver_samples = 16;   // cap on points per side of a receiver
-    int receiver_samples = 0;        // fixed points per side of a receiver; 0: adaptive (above)
-    std::uint64_t seed = 1;          // rays depend only on (seed, i, j): thread-count independent
-    int hemicube_resolution = 256;   // pixels per side of the hemicube's top face (even)
-    bool hemicube_jitter = false;    // rotate each hemicube randomly about the normal (seeded)
+    int visibility_rays = 4;             // rays per patch pair for the visible fraction (stratified)
+    double receiver_sampling = 4.0;      // receiver points per side = ceil(this * size / distance)
+    int max_receiver_samples = 16;       // cap on points per side of a receiver
+    int receiver_samples = 0;            // fixed points per side of a receiver; 0: adaptive (above)
+    std::uint64_t seed = 1;              // rays depend only on (seed, i, j): thread-count independent
+    int hemicube_resolution = 256;       // pixels per side of the hemicube's top face (even)
+    bool hemicube_jitter = false;        // rotate each hemicube randomly about the normal (seeded)
+    double exact_tolerance = 1e-8;       // exact method: relative error of unoccluded pairs
+    double visibility_tolerance = 1e-5;  // exact method: partial pairs stop when two orders agree
+                                         // within this fraction of the unoccluded factor
 };
 
 /// Computes rows of the form-factor matrix. F_ij is the fraction of power leaving patch i

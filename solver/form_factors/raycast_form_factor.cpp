@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
+#include "solver/form_factors/exact_form_factor.h"
 #include "solver/form_factors/hemicube_form_factor.h"
 #include "solver/form_factors/patch_sampling.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
@@ -23,6 +24,16 @@ double patch_size(const Patch& p) {
     for (int k = 0; k < p.vertex_count; ++k)
         for (int l = k + 1; l < p.vertex_count; ++l) s = std::max(s, glm::length(p.vertices[k] - p.vertices[l]));
     return s;
+}
+
+/// A grid of exactly m strata, sx x sy with sx the largest divisor of m not above sqrt(m)
+/// (16 -> 4 x 4, 8 -> 2 x 4, 3 -> 1 x 3). Every stratum gets one sample, so the estimate is
+/// unbiased; a ceil(sqrt(m))^2 grid with m < side^2 would leave strata unsampled.
+std::pair<int, int> strata(int m) {
+    int sx = 1;
+    for (int d = 1; d * d <= m; ++d)
+        if (m % d == 0) sx = d;
+    return {sx, m / sx};
 }
 
 }  // namespace
@@ -42,20 +53,22 @@ double RaycastFormFactor::visible_fraction(std::size_t i, std::size_t j) const {
     const Patch& a = m_patches[lo];
     const Patch& b = m_patches[hi];
     const int m = m_options.visibility_rays;
-    const int side = int(std::ceil(std::sqrt(double(m))));
+    const auto [sx, sy] = strata(m);
     SplitMix64 rng{m_options.seed * 0x9E3779B97F4A7C15ull ^ (std::uint64_t(lo) << 32 | std::uint64_t(hi))};
-    // A random pairing of the strata on a and b (Latin-style), drawn from the pair's stream.
-    int perm[64];
-    const int cells = std::min(side * side, 64);
-    std::iota(perm, perm + cells, 0);
-    for (int k = cells - 1; k > 0; --k) std::swap(perm[k], perm[rng.next() % std::uint64_t(k + 1)]);
+    // Exactly m strata on each patch (sx x sy = m), each ray in its own stratum on a and in a
+    // randomly paired one on b (Latin-style), so every ray end is uniform over its patch and
+    // the fraction is unbiased for every ray count.
+    thread_local std::vector<int> perm;
+    perm.resize(std::size_t(m));
+    std::iota(perm.begin(), perm.end(), 0);
+    for (int k = m - 1; k > 0; --k) std::swap(perm[k], perm[rng.next() % std::uint64_t(k + 1)]);
     const double eps = m_visibility->offset();
     thread_local std::vector<Visibility::Segment> rays;
     rays.clear();
     for (int r = 0; r < m; ++r) {
-        const int ca = r % cells, cb = perm[r % cells];
-        const glm::dvec3 pa = patch_point(a, (ca % side + rng.uniform()) / side, (ca / side + rng.uniform()) / side);
-        const glm::dvec3 pb = patch_point(b, (cb % side + rng.uniform()) / side, (cb / side + rng.uniform()) / side);
+        const int cb = perm[r];
+        const glm::dvec3 pa = patch_point(a, (r % sx + rng.uniform()) / sx, (r / sx + rng.uniform()) / sy);
+        const glm::dvec3 pb = patch_point(b, (cb % sx + rng.uniform()) / sx, (cb / sx + rng.uniform()) / sy);
         // Rays from points behind the other patch carry no power; leave them out.
         if (a.height(pb) <= eps || b.height(pa) <= eps) continue;
         rays.push_back({pa + eps * a.normal, pb + eps * b.normal});
@@ -72,13 +85,12 @@ double RaycastFormFactor::point_factor(const glm::dvec3& x, const glm::dvec3& n,
     const double f = point_polygon_form_factor(x, n, q.polygon());
     if (f <= 0.0 || !m_visibility) return std::max(f, 0.0);
     const int m = m_options.visibility_rays;
-    const int side = int(std::ceil(std::sqrt(double(m))));
+    const auto [sx, sy] = strata(m);
     SplitMix64 rng{m_options.seed * 0x9E3779B97F4A7C15ull ^ stream * 0xD1B54A32D192ED03ull ^ std::uint64_t(j)};
     thread_local std::vector<Visibility::Segment> rays;
     rays.clear();
     for (int r = 0; r < m; ++r) {
-        const int c = r % (side * side);
-        const glm::dvec3 pq = patch_point(q, (c % side + rng.uniform()) / side, (c / side + rng.uniform()) / side);
+        const glm::dvec3 pq = patch_point(q, (r % sx + rng.uniform()) / sx, (r / sx + rng.uniform()) / sy);
         if (glm::dot(n, pq - x) <= eps) continue;  // below x's tangent plane: carries nothing
         rays.push_back({x + eps * n, pq + eps * q.normal});
     }
@@ -173,7 +185,7 @@ void PatchToElementFormFactor::compute_row(std::size_t i, std::span<float> row) 
     });
 }
 
-std::vector<std::string> form_factor_methods() { return {"raycast", "analytic", "hemicube"}; }
+std::vector<std::string> form_factor_methods() { return {"raycast", "exact", "analytic", "hemicube"}; }
 
 std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::string& method,
                                                                 const std::vector<Patch>& patches,
@@ -183,6 +195,7 @@ std::unique_ptr<FormFactorEstimator> make_form_factor_estimator(const std::strin
         if (!visibility) throw std::invalid_argument("raycast form factors need a visibility backend");
         return std::make_unique<RaycastFormFactor>(patches, visibility, options);
     }
+    if (method == "exact") return std::make_unique<ExactFormFactor>(patches, true, options, visibility);
     if (method == "analytic") return std::make_unique<RaycastFormFactor>(patches, nullptr, options);
     if (method == "hemicube") return std::make_unique<HemicubeFormFactor>(patches, options);
     std::string valid;

@@ -30,7 +30,9 @@ public:
         m_tree.build();  // build now: lazy construction inside concurrent queries would race
     }
     bool occluded(const glm::dvec3& a, const glm::dvec3& b) const override {
-        return m_tree.do_intersect(K::Segment_3(to_cgal(a), to_cgal(b)));
+        const double t0 = trim(a, b);
+        if (t0 >= 0.5) return false;
+        return m_tree.do_intersect(K::Segment_3(to_cgal(a + t0 * (b - a)), to_cgal(b - t0 * (b - a))));
     }
     std::string name() const override { return "cgal"; }
 

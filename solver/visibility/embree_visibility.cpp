@@ -85,9 +85,11 @@ public:
         ray.dir_x = float(d.x);
         ray.dir_y = float(d.y);
         ray.dir_z = float(d.z);
-        // The segment a-b is t in [0, 1] along an unnormalised direction.
-        ray.tnear = 0.0f;
-        ray.tfar = 1.0f;
+        // The segment a-b is t in [0, 1] along an unnormalised direction, trimmed by the offset.
+        const double t0 = trim(a, b);
+        if (t0 >= 0.5) return false;
+        ray.tnear = float(t0);
+        ray.tfar = float(1.0 - t0);
         ray.mask = 0xFFFFFFFFu;
         ray.flags = 0;
         rtcOccluded1(m_scene, &context, &ray);
@@ -104,6 +106,8 @@ public:
             alignas(16) int valid[4] = {0, 0, 0, 0};
             const std::size_t count = std::min<std::size_t>(4, segments.size() - base);
             for (std::size_t k = 0; k < count; ++k) {
+                const double t0 = trim(segments[base + k].a, segments[base + k].b);
+                if (t0 >= 0.5) continue;  // nothing to test: left invalid, reported open
                 const glm::dvec3 o = segments[base + k].a - m_centre, d = segments[base + k].b - segments[base + k].a;
                 packet.org_x[k] = float(o.x);
                 packet.org_y[k] = float(o.y);
@@ -111,13 +115,13 @@ public:
                 packet.dir_x[k] = float(d.x);
                 packet.dir_y[k] = float(d.y);
                 packet.dir_z[k] = float(d.z);
-                packet.tnear[k] = 0.0f;
-                packet.tfar[k] = 1.0f;
+                packet.tnear[k] = float(t0);
+                packet.tfar[k] = float(1.0 - t0);
                 packet.mask[k] = 0xFFFFFFFFu;
                 valid[k] = -1;
             }
             rtcOccluded4(valid, m_scene, &context, &packet);
-            for (std::size_t k = 0; k < count; ++k) blocked[base + k] = packet.tfar[k] < 0.0f;
+            for (std::size_t k = 0; k < count; ++k) blocked[base + k] = valid[k] && packet.tfar[k] < 0.0f;
         }
     }
     std::string name() const override { return "embree"; }

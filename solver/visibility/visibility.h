@@ -17,7 +17,8 @@ namespace bounce {
 
 /// Answers "is the open segment a-b blocked by any patch?". Callers lift the endpoints off
 /// their own patches along the normals (by `offset()`), so a ray never hits its own patch or
-/// a coplanar neighbour. Implementations are thread-safe for concurrent queries.
+/// a coplanar neighbour; backends ignore hits within offset() / 4 of either end (see trim). Implementations are
+/// thread-safe for concurrent queries.
 class Visibility {
 public:
     struct Segment {
@@ -46,6 +47,20 @@ public:
     double offset() const { return m_offset; }
 
 protected:
+    /// The part of a segment that is tested: t in [t0, 1 - t0] of a + t (b - a), trimmed at
+    /// both ends by a quarter of the offset (t0 = offset / (4 |b - a|)). An endpoint within
+    /// float rounding of a wall at right angles to its patch (a point at a box's edge) would
+    /// otherwise hit that wall at t ~ 0: Embree rounds coordinates to float, and did (a false
+    /// occlusion in an empty box). A quarter, not the whole offset: a segment lifted by the
+    /// offset crosses its own surface's plane at least one offset from its end, and that
+    /// crossing (e.g. a block's side just under the lifted end on its top) must stay well
+    /// outside the trimmed part, where both backends see it alike. Returns >= 0.5 when nothing
+    /// is left to test.
+    double trim(const glm::dvec3& a, const glm::dvec3& b) const {
+        const double l = glm::length(b - a);
+        return l > 0 ? 0.25 * m_offset / l : 1.0;
+    }
+
     /// Sets the offset for these patches (1e-6 of their bounding box's diagonal, the same in
     /// every backend, so they trace the same rays) and returns the box's centre.
     glm::dvec3 fit_offset(const std::vector<Patch>& patches) {

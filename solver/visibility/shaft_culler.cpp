@@ -1,0 +1,198 @@
+// SPDX-License-Identifier: MIT
+#include "solver/visibility/shaft_culler.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace bounce {
+namespace {
+
+struct Plane {
+    glm::dvec3 n;  // the shaft is on the side n . x >= d
+    double d;
+};
+
+/// The largest value of n . x over a box (the corner furthest along n).
+double box_max(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& n) {
+    return (n.x > 0 ? n.x * hi.x : n.x * lo.x) + (n.y > 0 ? n.y * hi.y : n.y * lo.y) +
+           (n.z > 0 ? n.z * hi.z : n.z * lo.z);
+}
+
+}  // namespace
+
+ShaftCuller::ShaftCuller(const std::vector<Patch>& patches) : m_patches(patches) {
+    const std::size_t n = patches.size();
+    m_lo.resize(n);
+    m_hi.resize(n);
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (std::size_t k = 0; k < n; ++k) {
+        m_lo[k] = m_hi[k] = patches[k].vertices[0];
+        for (int v = 1; v < patches[k].vertex_count; ++v) {
+            m_lo[k] = glm::min(m_lo[k], patches[k].vertices[v]);
+            m_hi[k] = glm::max(m_hi[k], patches[k].vertices[v]);
+        }
+        lo = glm::min(lo, m_lo[k]);
+        hi = glm::max(hi, m_hi[k]);
+    }
+    m_tol = n ? 1e-9 * glm::length(hi - lo) : 0.0;
+    // Group by plane (normal and offset rounded; a plane split over two groups is only slower).
+    std::map<std::array<long long, 4>, std::size_t> index;
+    std::vector<std::vector<std::uint32_t>> members;
+    const double unit = std::max(10.0 * m_tol, 1e-300);
+    for (std::uint32_t k = 0; k < n; ++k) {
+        const glm::dvec3 nk = patches[k].normal;
+        const double dk = glm::dot(nk, patches[k].vertices[0]);
+        const std::array<long long, 4> key = {std::llround(nk.x * 1e9), std::llround(nk.y * 1e9),
+                                              std::llround(nk.z * 1e9), std::llround(dk / unit)};
+        const auto [it, added] = index.try_emplace(key, m_groups.size());
+        if (added) {
+            m_groups.push_back({nk, dk, 0, 0.0});
+            members.emplace_back();
+        }
+        members[it->second].push_back(k);
+        Group& g = m_groups[it->second];
+        for (int v = 0; v < patches[k].vertex_count; ++v)
+            g.spread = std::max(g.spread, std::abs(glm::dot(g.normal, patches[k].vertices[v]) - g.offset));
+    }
+    m_nodes.reserve(2 * n + m_groups.size());
+    for (std::size_t g = 0; g < m_groups.size(); ++g) {
+        const std::uint32_t begin = std::uint32_t(m_order.size());
+        m_order.insert(m_order.end(), members[g].begin(), members[g].end());
+        m_groups[g].root = std::uint32_t(m_nodes.size());
+        m_nodes.push_back({});
+        build(m_groups[g].root, begin, std::uint32_t(m_order.size()));
+    }
+}
+
+void ShaftCuller::build(std::uint32_t node, std::uint32_t begin, std::uint32_t end) {
+    glm::dvec3 lo(1e300), hi(-1e300), clo(1e300), chi(-1e300);
+    for (std::uint32_t k = begin; k < end; ++k) {
+        lo = glm::min(lo, m_lo[m_order[k]]);
+        hi = glm::max(hi, m_hi[m_order[k]]);
+        const glm::dvec3 c = 0.5 * (m_lo[m_order[k]] + m_hi[m_order[k]]);
+        clo = glm::min(clo, c);
+        chi = glm::max(chi, c);
+    }
+    m_nodes[node].lo = lo;
+    m_nodes[node].hi = hi;
+    if (end - begin <= 4) {
+        m_nodes[node].first = begin;
+        m_nodes[node].count = end - begin;
+        return;
+    }
+    // Median split along the widest axis of the box centres.
+    const glm::dvec3 ext = chi - clo;
+    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    const std::uint32_t mid = begin + (end - begin) / 2;
+    std::nth_element(m_order.begin() + begin, m_order.begin() + mid, m_order.begin() + end,
+                     [&](std::uint32_t a, std::uint32_t b) {
+                         return m_lo[a][axis] + m_hi[a][axis] < m_lo[b][axis] + m_hi[b][axis];
+                     });
+    const std::uint32_t left = std::uint32_t(m_nodes.size());
+    m_nodes[node].first = left;
+    m_nodes[node].count = 0;
+    m_nodes.push_back({});
+    m_nodes.push_back({});
+    build(left, begin, mid);
+    build(left + 1, mid, end);
+}
+
+void ShaftCuller::candidates(std::size_t i, std::size_t j, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    if (m_patches.empty()) return;
+    const Patch& p = m_patches[i];
+    const Patch& q = m_patches[j];
+    const double tol = m_tol;
+    // The shaft: the box of both patches and the supporting planes of their convex hull.
+    const glm::dvec3 lo = glm::min(m_lo[i], m_lo[j]) - tol, hi = glm::max(m_hi[i], m_hi[j]) + tol;
+    std::array<glm::dvec3, 8> pts;
+    int np = 0;
+    for (int k = 0; k < p.vertex_count; ++k) pts[np++] = p.vertices[k];
+    for (int k = 0; k < q.vertex_count; ++k) pts[np++] = q.vertices[k];
+    std::array<Plane, 2 + 2 * 16> planes;
+    int nplanes = 0;
+    planes[nplanes++] = {p.normal, glm::dot(p.normal, p.vertices[0])};
+    planes[nplanes++] = {q.normal, glm::dot(q.normal, q.vertices[0])};
+    const auto add_edge_planes = [&](const Patch& a, const Patch& b) {
+        for (int e = 0; e < a.vertex_count; ++e) {
+            const glm::dvec3 &u = a.vertices[e], &v = a.vertices[(e + 1) % a.vertex_count];
+            for (int k = 0; k < b.vertex_count; ++k) {
+                glm::dvec3 n = glm::cross(v - u, b.vertices[k] - u);
+                const double len = glm::length(n);
+                if (len <= 1e-12 * glm::dot(v - u, v - u)) continue;
+                n /= len;
+                bool pos = true, neg = true;
+                for (int m = 0; m < np; ++m) {
+                    const double h = glm::dot(n, pts[m] - u);
+                    pos &= h >= -tol;
+                    neg &= h <= tol;
+                }
+                if (pos == neg) continue;  // not a supporting plane (or the hull is flat)
+                if (neg) n = -n;
+                planes[nplanes++] = {n, glm::dot(n, u)};
+            }
+        }
+    };
+    const auto outside = [&](const glm::dvec3& blo, const glm::dvec3& bhi) {
+        if (blo.x > hi.x || blo.y > hi.y || blo.z > hi.z || bhi.x < lo.x || bhi.y < lo.y || bhi.z < lo.z) return true;
+        for (int k = 0; k < nplanes; ++k)
+            if (box_max(blo, bhi, planes[k].n) <= planes[k].d + tol) return true;
+        return false;
+    };
+    thread_local std::vector<std::uint32_t> stack;
+    stack.resize(m_groups.size() + 64);
+    int top = 0;
+    for (const Group& g : m_groups) {
+        // The whole shaft on one side of the group's plane (or on it, within the tolerance
+        // less the members' spread about the plane): nothing in the group blocks.
+        bool pos = true, neg = true;
+        for (int m = 0; m < np; ++m) {
+            const double h = glm::dot(g.normal, pts[m]) - g.offset;
+            pos &= h >= g.spread - tol;
+            neg &= h <= tol - g.spread;
+        }
+        if (!(pos || neg)) stack[top++] = g.root;
+    }
+    if (top == 0) return;  // every plane group is beside the shaft (an empty convex room)
+    add_edge_planes(p, q);
+    add_edge_planes(q, p);
+    while (top > 0) {
+        const Node& node = m_nodes[stack[--top]];
+        if (outside(node.lo, node.hi)) continue;
+        if (node.count == 0) {
+            stack[top++] = node.first;
+            stack[top++] = node.first + 1;
+            continue;
+        }
+        for (std::uint32_t s = node.first; s < node.first + node.count; ++s) {
+            const std::uint32_t k = m_order[s];
+            if (k == i || k == j || outside(m_lo[k], m_hi[k])) continue;
+            const Patch& b = m_patches[k];
+            // Separated by a shaft plane: every vertex of b outside or on it.
+            bool separated = false;
+            for (int c = 0; c < nplanes && !separated; ++c) {
+                bool all_out = true;
+                for (int v = 0; v < b.vertex_count && all_out; ++v)
+                    all_out = glm::dot(planes[c].n, b.vertices[v]) <= planes[c].d + tol;
+                separated = all_out;
+            }
+            if (separated) continue;
+            // Separated by b's own plane: the whole shaft on one side of it.
+            bool pos = true, neg = true;
+            for (int m = 0; m < np; ++m) {
+                const double h = b.height(pts[m]);
+                pos &= h >= -tol;
+                neg &= h <= tol;
+            }
+            if (pos || neg) continue;
+            out.push_back(k);
+        }
+    }
+}
+
+}  // namespace bounce

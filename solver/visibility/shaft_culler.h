@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mesh/patch.h"
+
+namespace bounce {
+
+/// Candidate blockers of a patch pair, found before any ray is traced: a conservative shaft
+/// test (Haines and Wallace 1991, "Shaft culling for efficient ray-cast radiosity") over a
+/// bounding-volume hierarchy of the patches, in double precision.
+///
+/// The shaft of the pair (i, j) is the convex hull of the two polygons, bounded by their planes
+/// and by the planes through an edge of one and a vertex of the other that hold both polygons
+/// on one side. A patch k is a candidate unless it is separated from the shaft: its box misses
+/// the shaft's box, or it lies outside (or on) one of the shaft's planes, or the whole shaft
+/// lies on one side of k's own plane (so no segment between i and j crosses it). In an empty
+/// convex room every other patch is separated by its own plane: no candidates, no rays. The
+/// test never drops a true blocker; it may keep patches that block nothing. Patches are grouped
+/// by plane first, so a wall of many patches is rejected by one test.
+class ShaftCuller {
+public:
+    explicit ShaftCuller(const std::vector<Patch>& patches);
+
+    /// Replaces `out` with the candidate blockers of the pair (i, j) (neither i nor j).
+    void candidates(std::size_t i, std::size_t j, std::vector<std::uint32_t>& out) const;
+    const std::vector<Patch>& patches() const { return m_patches; }
+
+private:
+    struct Node {
+        glm::dvec3 lo, hi;    // box of everything below
+        std::uint32_t first;  // leaf: first index into m_order; inner: left child (right = first + 1)
+        std::uint32_t count;  // leaf: patch count; 0 for an inner node
+    };
+    /// Patches in one plane (a wall cut into patches) share one test: when the whole shaft is
+    /// on one side of their plane, none of them is a candidate, and their tree is skipped.
+    struct Group {
+        glm::dvec3 normal;
+        double offset;       // plane: normal . x = offset
+        std::uint32_t root;  // its tree's root in m_nodes
+        double spread;       // the members' largest distance from that plane
+    };
+    void build(std::uint32_t node, std::uint32_t begin, std::uint32_t end);
+
+    const std::vector<Patch>& m_patches;
+    std::vector<glm::dvec3> m_lo, m_hi;  // per-patch boxes
+    std::vector<std::uint32_t> m_order;  // patch indices, leaves are ranges of it
+    std::vector<Node> m_nodes;           // the groups' trees
+    std::vector<Group> m_groups;
+    double m_tol = 0.0;  // 1e-9 of the scene's diagonal: "on the plane"
+};
+
+}  // namespace bounce
