@@ -17,6 +17,17 @@
 
 namespace bounce::app {
 
+namespace {
+
+std::string number_text(double x) {
+    std::ostringstream t;
+    t << x;
+    return t.str();
+}
+
+}  // namespace
+
+// Both in the one error style of the program: "<option>: <what>, got <value> (expected <range>)".
 const CLI::Validator kPositive(
     [](std::string& v) {
         try {
@@ -25,9 +36,25 @@ const CLI::Validator kPositive(
             if (used == v.size() && std::isfinite(x) && x > 0) return std::string();
         } catch (const std::exception&) {
         }
-        return "must be a number > 0, got '" + v + "'";
+        return "not a positive number, got '" + v + "' (expected > 0)";
     },
     "> 0");
+
+CLI::Validator in_range(double lo, double hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& v) {
+            try {
+                std::size_t used = 0;
+                const double x = std::stod(v, &used);
+                if (used == v.size() && x >= lo && x <= hi) return std::string();
+                if (used == v.size() && std::isfinite(x))
+                    return "out of range, got " + v + " (expected " + number_text(lo) + " to " + number_text(hi) + ")";
+            } catch (const std::exception&) {
+            }
+            return "not a number, got '" + v + "' (expected " + number_text(lo) + " to " + number_text(hi) + ")";
+        },
+        "in [" + number_text(lo) + ", " + number_text(hi) + "]");
+}
 
 namespace {
 
@@ -124,7 +151,7 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
     cmd->add_option("--max-edge", o.meshing.max_edge, "longest patch edge (scene units)")->check(kPositive);
     cmd->add_option("--patches", o.meshing.target_patches,
                     "about this many patches when neither --max-area nor --max-edge is given (2000)")
-        ->check(CLI::Range(std::size_t(1), std::size_t(100000000)));
+        ->check(in_range(std::size_t(1), std::size_t(100000000)));
     cmd->add_option("--max-memory", o.max_memory_mb, "refuse work estimated above this many MB (16384)")
         ->check(kPositive);
     cmd->add_flag(
@@ -146,12 +173,12 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
 
 void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
     cmd->add_option("--rays", f.visibility_rays, "visibility rays per patch pair (raycast; 4)")
-        ->check(CLI::Range(1, 4096));
+        ->check(in_range(1, 4096));
     cmd->add_option("--receiver-samples", f.receiver_samples,
                     "points per side of each receiver (raycast); 0: adaptive (0)")
-        ->check(CLI::Range(0, 16));
+        ->check(in_range(0, 16));
     cmd->add_option("--hemicube-res", f.hemicube_resolution, "hemicube pixels per side, even (256)")
-        ->check(CLI::Range(2, 4096));
+        ->check(in_range(2, 4096));
     cmd->add_flag("--hemicube-jitter", f.hemicube_jitter, "rotate each hemicube randomly about the normal (off)");
     cmd->add_option("--seed", f.seed, "seed of the rays and rotations (1)");
 }

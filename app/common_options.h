@@ -20,6 +20,8 @@ namespace bounce::app {
 
 /// "> 0", with a readable message (CLI11's PositiveNumber prints the whole double range).
 extern const CLI::Validator kPositive;
+/// lo <= value <= hi, with the same style of message: "out of range, got V (expected LO to HI)".
+CLI::Validator in_range(double lo, double hi);
 
 /// The options every command takes (one instance, bound to each subcommand's flags).
 struct CommonOptions {

@@ -358,7 +358,7 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
     cmp_cmd->add_option("--tolerance", cmp->options.tolerance, "stopping tolerance of each solver")->check(kPositive);
     cmp_cmd->add_option("--max-iterations", cmp->options.max_iterations, "shots or sweeps limit");
     cmp_cmd->add_option("--sor", cmp->options.sor, "over-relaxation for jacobi and gauss-seidel")
-        ->check(CLI::Range(0.0, 2.0));
+        ->check(in_range(0.0, 2.0));
     cmp_cmd->add_option("--max-matrix-mb", cmp->max_matrix_mb, "refuse a matrix larger than this (MB)");
     cmp_cmd->add_flag("--meshes", cmp->meshes,
                       "compare uniform, adaptive and hierarchical meshes over the same patches (60 for the box) "
@@ -366,7 +366,7 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
     cmp_cmd
         ->add_option("--reference-level", cmp->reference_level,
                      "--meshes: the reference cuts every patch into 4^level elements (5)")
-        ->check(CLI::Range(1, 7));
+        ->check(in_range(1, 7));
     cmp_cmd->add_option("--reference", cmp->reference,
                         "score every run at the points of this `bounce reference` CSV (default: path-trace " +
                             std::to_string(kCompareProbes) + " probes once and cache them in the output folder)");

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e);
-        std::cerr << "bounce: " << e.what() << " (see --help)\n";
+        std::cerr << "bounce: error: " << e.what() << " (see --help)\n";
         return 2;
     }
     std::optional<tbb::global_control> threads;

@@ -111,10 +111,10 @@ Command add_reference_command(CLI::App& app, CommonOptions& common) {
     cmd->add_option("--target-error", r->options.target_error,
                     "sample each point until the standard error of its luminance is below this fraction")
         ->capture_default_str()
-        ->check(CLI::Range(1e-6, 1.0));
+        ->check(in_range(1e-6, 1.0));
     cmd->add_option("--max-paths", r->options.max_paths, "budget of paths per point; points that reach it are flagged")
         ->capture_default_str()
-        ->check(CLI::Range(std::uint64_t(64), std::uint64_t(1) << 40));
+        ->check(in_range(std::uint64_t(64), std::uint64_t(1) << 40));
     cmd->add_option("--seed", r->options.seed, "random seed: same seed and scene, same numbers")->capture_default_str();
     cmd->add_flag("--skip-missing", r->skip_missing,
                   "leave rows with no surface near them empty (status=missing) instead of stopping");

@@ -288,7 +288,7 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                      "adaptive: stop when the RMS error estimate is below this (relative; 0.05)")
         ->check(kPositive);
     solve_cmd->add_option("--max-patches", solve->adaptive_options.max_elements, "adaptive: element budget (20000)")
-        ->check(CLI::Range(std::size_t(1), std::size_t(10000000)));
+        ->check(in_range(std::size_t(1), std::size_t(10000000)));
     solve_cmd
         ->add_option("--link-epsilon", solve->hierarchical.link_epsilon,
                      "hierarchical: link error bound, a share of what the link brings (0.1)")
@@ -296,7 +296,7 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
     solve_cmd
         ->add_option("--max-level", solve->hierarchical.max_level,
                      "hierarchical: quadtree depth under each input face (4)")
-        ->check(CLI::Range(0, 12));
+        ->check(in_range(0, 12));
     solve_cmd
         ->add_option("--tolerance", solve->options.tolerance,
                      "stop below this unshot fraction (shooting) or relative residual (others); 1e-3")
@@ -306,13 +306,13 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
     solve_cmd->add_option("--max-seconds", solve->options.max_seconds, "stop after this many seconds")
         ->check(CLI::NonNegativeNumber);
     solve_cmd->add_option("--sor", solve->options.sor, "over-relaxation factor for jacobi and gauss-seidel, (0,2)")
-        ->check(CLI::Range(0.0, 2.0));
+        ->check(in_range(0.0, 2.0));
     solve_cmd->add_option("--log", solve->log_csv, "write the convergence log (CSV)");
     solve_cmd->add_flag("--overshoot", solve->options.overshoot, "shooting: over-shoot by rho times the ambient term");
     solve_cmd
         ->add_option("--elements", solve->element_split,
                      "shooting: cut every patch into KxK elements that receive (patches shoot to elements)")
-        ->check(CLI::Range(1, 64));
+        ->check(in_range(1, 64));
     solve_cmd->add_option(
         "--cache-mb", solve->options.cache_mb,
         "shooting: memory for cached form-factor rows (MB, default 1024); rows beyond it are recomputed");

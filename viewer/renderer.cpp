@@ -65,6 +65,7 @@ struct Scene3d {
     vtkNew<vtkDataSetMapper> mapper;
     vtkNew<vtkActor> actor;
     vtkNew<vtkScalarBarActor> bar;
+    vtkNew<vtkRenderer> legend;  // beside the scene: the colour bar's own strip of the window
     vtkNew<vtkLookupTable> lut;
     bool luminance = false;
 
@@ -91,17 +92,39 @@ struct Scene3d {
             if (!emits) range[1] = std::max(range[1], l->GetTuple1(i));
         }
         if (!(range[1] > 0)) range[1] = 1;
-        lut->SetHueRange(0.667, 0.0);
+        // Viridis (perceptually uniform, readable in grey and by colour-blind eyes), from five of
+        // matplotlib's control colours, linearly between them.
+        static constexpr double kViridis[5][3] = {{0.267, 0.005, 0.329},
+                                                  {0.229, 0.322, 0.546},
+                                                  {0.128, 0.567, 0.551},
+                                                  {0.369, 0.789, 0.383},
+                                                  {0.993, 0.906, 0.144}};
+        lut->SetNumberOfTableValues(256);
+        for (int k = 0; k < 256; ++k) {
+            const double t = 4.0 * k / 255.0;
+            const int i = std::min(3, int(t));
+            const double f = t - i;
+            lut->SetTableValue(k, (1 - f) * kViridis[i][0] + f * kViridis[i + 1][0],
+                               (1 - f) * kViridis[i][1] + f * kViridis[i + 1][1],
+                               (1 - f) * kViridis[i][2] + f * kViridis[i + 1][2], 1.0);
+        }
         lut->SetTableRange(range);
-        lut->Build();
         bar->SetLookupTable(lut);
-        bar->SetTitle("luminance");
+        bar->SetTitle("luminance\n(W per unit\narea)");
         bar->SetNumberOfLabels(5);
         bar->GetTitleTextProperty()->SetFontSize(14);
+        // Beside the picture, not on it: the scene keeps the left 84% of the window, the bar
+        // fills a strip of its own to the right.
+        bar->SetPosition(0.1, 0.08);
+        bar->SetWidth(0.8);
+        bar->SetHeight(0.84);
         renderer->AddActor(actor);
-        renderer->AddActor2D(bar);
+        legend->AddActor2D(bar);
+        legend->SetBackground(0.0, 0.0, 0.0);
+        legend->SetViewport(0.84, 0.0, 1.0, 1.0);
         renderer->SetBackground(0.0, 0.0, 0.0);
         window->AddRenderer(renderer);
+        window->AddRenderer(legend);
         window->SetSize(o.width, o.height);
         set_colouring(o.luminance, o.smooth);
         set_camera(renderer, g, o);
@@ -121,6 +144,8 @@ struct Scene3d {
         }
         mapper->ScalarVisibilityOn();
         bar->SetVisibility(lum);
+        renderer->SetViewport(0.0, 0.0, lum ? 0.84 : 1.0, 1.0);
+        legend->SetDraw(lum);
     }
 };
 

@@ -342,8 +342,9 @@ TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
         std::string args, expect;
     };
     const std::vector<Case> cases = {
-        {"--max-area 0", "must be a number > 0"},
-        {"--max-edge -3", "must be a number > 0"},
+        {"--max-area 0", "error: --max-area: not a positive number, got '0' (expected > 0)"},
+        {"--max-edge -3", "error: --max-edge: not a positive number, got '-3' (expected > 0)"},
+        {"--sor 3 --solver gauss-seidel", "error: --sor: out of range, got 3 (expected 0 to 2)"},
         {"--max-area 1e-6", "1.93745e+12 patches"},                       // ~10^12 patches
         {"--hemicube-res 1000000 --form-factors hemicube", "--hemicube-res"},
         {"--form-factors hemicube --hemicube-res 4096 --max-memory 100", "hemicube buffers"},
