@@ -158,8 +158,9 @@ Scene read_json_scene(const std::filesystem::path& path) {
             if (it->contains("reflectance")) m.reflectance = cx.rgb((*it)["reflectance"], "reflectance");
             if (it->contains("emission")) m.emission = cx.rgb((*it)["emission"], "emission");
             if (m.reflectance.min() < 0 || m.reflectance.max() > 1)
-                cx.fail("reflectance " + m.reflectance.to_string() + " is outside [0,1]");
-            if (m.emission.min() < 0) cx.fail("emission " + m.emission.to_string() + " is negative");
+                cx.fail("reflectance out of range, got " + m.reflectance.to_string() + " (expected 0 to 1 per channel)");
+            if (m.emission.min() < 0)
+                cx.fail("emission out of range, got " + m.emission.to_string() + " (expected >= 0 per channel)");
             byname[m.name] = int(scene.materials.size());
             scene.materials.push_back(m);
         }

@@ -58,10 +58,13 @@ void read_mtl(const std::filesystem::path& path, Scene& scene, std::map<std::str
             const Rgb c = parse_rgb(w, where);
             if (w[0] == "Kd") {
                 if (c.min() < 0.0 || c.max() > 1.0)
-                    throw InputError(where + ": reflectance Kd " + c.to_string() + " is outside [0,1]");
+                    throw InputError(where + ": reflectance Kd out of range, got " + c.to_string() +
+                                     " (expected 0 to 1 per channel)");
                 scene.materials[current].reflectance = c;
             } else {
-                if (c.min() < 0.0) throw InputError(where + ": emission Ke " + c.to_string() + " is negative");
+                if (c.min() < 0.0)
+                    throw InputError(where + ": emission Ke out of range, got " + c.to_string() +
+                                     " (expected >= 0 per channel)");
                 scene.materials[current].emission = c;
             }
         }

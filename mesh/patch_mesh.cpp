@@ -104,7 +104,8 @@ MeshPlan plan_mesh(const Scene& scene, const MeshingOptions& options) {
         }
     }
     if (options.element_split < 1 || options.element_split > 1024)
-        throw InputError("meshing: the element split must be between 1 and 1024");
+        throw InputError("meshing: element split out of range, got " + std::to_string(options.element_split) +
+                         " (expected 1 to 1024)");
     plan.patches *= double(options.element_split) * options.element_split;
     return plan;
 }

@@ -37,11 +37,11 @@ void Scene::validate() const {
         for (int c = 0; c < 3; ++c) {
             const double rho = m.reflectance[c], e = m.emission[c];
             if (!std::isfinite(rho) || rho < 0.0 || rho > 1.0)
-                throw InputError("material '" + m.name + "': reflectance " +
-                                 m.reflectance.to_string() + " is outside [0,1]");
+                throw InputError("material '" + m.name + "': reflectance out of range, got " +
+                                 m.reflectance.to_string() + " (expected 0 to 1 per channel)");
             if (!std::isfinite(e) || e < 0.0)
-                throw InputError("material '" + m.name + "': emission " + m.emission.to_string() +
-                                 " is negative or not finite");
+                throw InputError("material '" + m.name + "': emission out of range, got " +
+                                 m.emission.to_string() + " (expected finite and >= 0 per channel)");
         }
     }
     for (const auto& s : surfaces) {

@@ -87,10 +87,10 @@ TEST(ObjReader, BadInputNamesFileAndLine) {
     expect_input_error([&] { read_obj(num); }, {"num.obj:2", "bad number"});
     dir.write("bad.mtl", "newmtl m\nKd 1.5 0.2 0.2\n");
     const auto kd = dir.write("kd.obj", "mtllib bad.mtl\nv 0 0 0\n");
-    expect_input_error([&] { read_obj(kd); }, {"bad.mtl:2", "outside [0,1]"});
+    expect_input_error([&] { read_obj(kd); }, {"bad.mtl:2", "reflectance Kd out of range, got", "(expected 0 to 1 per channel)"});
     dir.write("neg.mtl", "newmtl m\nKe -1 0 0\n");
     const auto ke = dir.write("ke.obj", "mtllib neg.mtl\n");
-    expect_input_error([&] { read_obj(ke); }, {"neg.mtl:2", "negative"});
+    expect_input_error([&] { read_obj(ke); }, {"neg.mtl:2", "emission Ke out of range, got (-1, 0, 0) (expected >= 0 per channel)"});
     expect_input_error([&] { read_obj(dir / "missing.obj"); }, {"missing.obj", "not found"});
     expect_input_error([&] { read_obj(dir.path()); }, {"directory"});
     const auto bin = dir.write("bin.obj", std::string("v 0 0 0\n\0\x01\x02", 11));
@@ -131,7 +131,7 @@ TEST(JsonScene, BadInputIsNamed) {
     const auto key = dir.write("k.json", R"({"objects": [{"type": "quad", "colour": 1}]})");
     expect_input_error([&] { read_json_scene(key); }, {"k.json", "objects[0]", "unknown key 'colour'"});
     const auto rho = dir.write("r.json", R"({"materials": {"m": {"reflectance": 1.2}}, "objects": []})");
-    expect_input_error([&] { read_json_scene(rho); }, {"r.json", "material 'm'", "outside [0,1]"});
+    expect_input_error([&] { read_json_scene(rho); }, {"r.json", "material 'm'", "reflectance out of range, got"});
     const auto syn = dir.write("s.json", "{\"objects\": [\n{\"type\": \"quad\",}\n]}");
     expect_input_error([&] { read_json_scene(syn); }, {"s.json", "line 2"});
     const auto sing = dir.write("z.json", R"({"objects": [{"type": "box", "transform": {"scale": [1, 0, 1]}}]})");
