@@ -285,8 +285,10 @@ TEST(Cli, InterruptWritesTheSolutionSoFarMarkedNotConverged) {
     for (const auto& [sig, code] : {std::pair{"INT", 130}, {"TERM", 143}}) {
         const auto out = dir / (std::string(sig) + ".vtu");
         // About 11000 patches: the solve runs for minutes; the signal comes after 5 s (a loaded
-        // machine may need seconds just to load the program's libraries).
-        const auto r = test::run("timeout --preserve-status -s " + std::string(sig) + " 5 " + kExe +
+        // machine may need seconds just to load the program's libraries). --foreground: without
+        // it timeout signals the program and then its whole process group, and a second signal
+        // that arrives after the first was handled means "exit at once, write nothing".
+        const auto r = test::run("timeout --foreground --preserve-status -s " + std::string(sig) + " 5 " + kExe +
                                  " solve --max-area 150 --ascii -o " + out.string());
         EXPECT_EQ(r.exit_code, code) << r.err;
         EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
