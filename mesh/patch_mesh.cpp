@@ -321,4 +321,17 @@ Rgb PatchMesh::emitted_power() const {
     return e;
 }
 
+std::vector<Rgb> area_weighted_vertex_values(const PatchMesh& mesh, const std::vector<Rgb>& per_patch) {
+    const auto& patches = mesh.patches();
+    std::vector<Rgb> sum(mesh.mesh().n_vertices());
+    std::vector<double> weight(sum.size(), 0.0);
+    for (std::size_t i = 0; i < patches.size(); ++i)
+        for (int v : mesh.patch_vertex_indices(i)) {
+            sum[std::size_t(v)] += per_patch[i] * patches[i].area;
+            weight[std::size_t(v)] += patches[i].area;
+        }
+    for (std::size_t v = 0; v < sum.size(); ++v) sum[v] = weight[v] > 0 ? sum[v] * (1.0 / weight[v]) : Rgb();
+    return sum;
+}
+
 }  // namespace bounce

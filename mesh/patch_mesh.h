@@ -29,6 +29,12 @@ struct MeshingOptions {
 /// without making them: for estimates and warnings before a large meshing.
 double planned_patches(const Scene& scene, const MeshingOptions& options);
 
+class PatchMesh;
+
+/// Per mesh vertex, the area-weighted mean of `per_patch` over the patches around the vertex
+/// (0 at a vertex no patch uses): the exported point data when nothing better is known.
+std::vector<Rgb> area_weighted_vertex_values(const PatchMesh& mesh, const std::vector<Rgb>& per_patch);
+
 struct PatchMeshTraits : OpenMesh::DefaultTraits {
     using Point = OpenMesh::Vec3d;
     using Normal = OpenMesh::Vec3d;

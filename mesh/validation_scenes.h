@@ -55,6 +55,18 @@ inline Scene coaxial_disks_scene(double r1, double r2, double h, int n = 96) {
     return s;
 }
 
+/// A receiving plane z = 0 ([-2,3]^2, rho 0.5, facing up, surface 0) under a unit square lamp at
+/// z = 1 ([0,1]^2, E = (3, 2, 1), facing down, reflecting nothing, surface 1); material 2 is
+/// black, for blockers. The light at a point of the plane is 0.5 E F(dA -> lamp) exactly.
+inline Scene lamp_over_plane() {
+    Scene s;
+    s.name = "lamp over plane";
+    s.materials = {{"plane", Rgb::gray(0.5), Rgb()}, {"lamp", Rgb(), Rgb(3, 2, 1)}, {"black", Rgb(), Rgb()}};
+    s.surfaces.push_back({{{-2, -2, 0}, {3, -2, 0}, {3, 3, 0}, {-2, 3, 0}}, 0, "plane", {"test", 0}});
+    s.surfaces.push_back({{{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}}, 1, "lamp", {"test", 0}});
+    return s;
+}
+
 /// A closed box [0,sx]x[0,sy]x[0,sz] facing inwards, every wall with material 0.
 inline Scene closed_box(glm::dvec3 size, Material m) {
     Scene s;

@@ -111,8 +111,6 @@ vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, c
     surface->SetName("surface");
     surface->SetNumberOfTuples(vtkIdType(n));
 
-    std::vector<Rgb> vertex_sum(om.n_vertices());
-    std::vector<double> vertex_weight(om.n_vertices(), 0.0);
     for (std::size_t i = 0; i < n; ++i) {
         const auto ids = mesh.patch_vertex_indices(i);
         std::vector<vtkIdType> cell(ids.begin(), ids.end());
@@ -127,10 +125,6 @@ vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, c
         luminance->SetValue(vtkIdType(i), result.radiosity[i].luminance());
         area->SetValue(vtkIdType(i), p.area);
         surface->SetValue(vtkIdType(i), p.surface);
-        for (int v : ids) {
-            vertex_sum[v] += result.radiosity[i] * p.area;
-            vertex_weight[v] += p.area;
-        }
     }
     auto cd = grid->GetCellData();
     cd->AddArray(radiosity);
@@ -155,12 +149,11 @@ vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, c
 
     // Point data: gathered at the vertices when the solve did so (exact kernel and visibility),
     // else the area-weighted mean of the patches around each vertex.
-    const bool gathered = result.point_radiosity.size() == om.n_vertices();
+    const std::vector<Rgb> at_vertex = result.point_radiosity.size() == om.n_vertices()
+                                           ? result.point_radiosity
+                                           : area_weighted_vertex_values(mesh, result.radiosity);
     auto point_radiosity = rgb_array("radiosity", om.n_vertices());
-    for (std::size_t v = 0; v < om.n_vertices(); ++v)
-        set_rgb(point_radiosity, v,
-                gathered ? result.point_radiosity[v]
-                         : (vertex_weight[v] > 0 ? vertex_sum[v] * (1.0 / vertex_weight[v]) : Rgb()));
+    for (std::size_t v = 0; v < om.n_vertices(); ++v) set_rgb(point_radiosity, v, at_vertex[v]);
     grid->GetPointData()->AddArray(point_radiosity);
     add_display_rgb(grid, 0.0);
 

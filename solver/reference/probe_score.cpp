@@ -9,19 +9,6 @@
 
 namespace bounce {
 
-std::vector<Rgb> vertex_radiosity(const PatchMesh& mesh, std::span<const Rgb> patch_radiosity) {
-    const auto& patches = mesh.patches();
-    std::vector<Rgb> sum(mesh.mesh().n_vertices());
-    std::vector<double> weight(sum.size(), 0.0);
-    for (std::size_t i = 0; i < patches.size(); ++i)
-        for (int v : mesh.patch_vertex_indices(i)) {
-            sum[std::size_t(v)] += patch_radiosity[i] * patches[i].area;
-            weight[std::size_t(v)] += patches[i].area;
-        }
-    for (std::size_t v = 0; v < sum.size(); ++v) sum[v] = weight[v] > 0 ? sum[v] * (1.0 / weight[v]) : Rgb();
-    return sum;
-}
-
 namespace {
 
 glm::dvec3 point_of(const PatchMesh& mesh, int v) {
@@ -87,9 +74,10 @@ Rgb interpolate(const PatchMesh& mesh, std::size_t i, const glm::dvec3& x, const
 ProbeScore score_at_probes(const PatchMesh& mesh, std::span<const Rgb> patch_radiosity,
                            std::span<const ReferencePoint> reference, std::span<const Rgb> point_values) {
     ProbeScore s;
-    const auto at_vertex = point_values.size() == mesh.mesh().n_vertices()
-                               ? std::vector<Rgb>(point_values.begin(), point_values.end())
-                               : vertex_radiosity(mesh, patch_radiosity);
+    const auto at_vertex =
+        point_values.size() == mesh.mesh().n_vertices()
+            ? std::vector<Rgb>(point_values.begin(), point_values.end())
+            : area_weighted_vertex_values(mesh, std::vector<Rgb>(patch_radiosity.begin(), patch_radiosity.end()));
     // Scene size from the patches' extent, for the on-plane tolerance.
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const auto& p : mesh.patches())

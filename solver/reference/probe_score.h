@@ -28,15 +28,11 @@ struct ProbeScore {
     std::vector<double> patch_error, smooth_error;
 };
 
-/// Per-vertex radiosity: the area-weighted mean of the patches around each vertex (the
-/// point data bounce writes to .vtu).
-std::vector<Rgb> vertex_radiosity(const PatchMesh& mesh, std::span<const Rgb> patch_radiosity);
-
 /// Scores a solution on `mesh` (radiosity per patch) at the reference points. A probe lies on
 /// a patch when it is within 1e-6 of the scene size of the patch's plane, inside its polygon,
 /// and the normals agree.
 /// `point_values`, when it has one value per mesh vertex, is the point data (gathered values);
-/// otherwise the point data is vertex_radiosity(mesh, patch_radiosity).
+/// otherwise the point data is area_weighted_vertex_values(mesh, patch_radiosity).
 ProbeScore score_at_probes(const PatchMesh& mesh, std::span<const Rgb> patch_radiosity,
                            std::span<const ReferencePoint> reference, std::span<const Rgb> point_values = {});
 

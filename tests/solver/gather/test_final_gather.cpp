@@ -27,20 +27,6 @@ TEST(FinalGather, FurnaceVerticesGatherExactlyEOverOneMinusRho) {
     for (const auto& b : centres) EXPECT_NEAR(b.g, 2.0, 1e-9);
 }
 
-namespace {
-
-/// The receiving plane [-2,3]^2 (rho 0.5) under a unit lamp at z = 1 (E 3, 2, 1), cut into patches.
-Scene lamp_over_plane() {
-    Scene s;
-    s.name = "lamp over plane";
-    s.materials = {{"plane", Rgb::gray(0.5), Rgb()}, {"lamp", Rgb(), Rgb(3, 2, 1)}, {"black", Rgb(), Rgb()}};
-    s.surfaces.push_back({{{-2, -2, 0}, {3, -2, 0}, {3, 3, 0}, {-2, 3, 0}}, 0, "plane", {"test", 0}});
-    s.surfaces.push_back({{{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}}, 1, "lamp", {"test", 0}});
-    return s;
-}
-
-}  // namespace
-
 TEST(FinalGather, DirectLightAtEveryVertexIsLambertsFormula) {
     const Scene s = lamp_over_plane();
     MeshingOptions o;

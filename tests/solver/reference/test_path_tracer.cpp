@@ -25,17 +25,6 @@ SurfacePoint on(const PathTracer& pt, V p, V n) {
     return x.value_or(SurfacePoint{});
 }
 
-/// A receiving plane z = 0 ([-2,3]^2, rho 0.5, facing up) under a unit square emitter at
-/// z = 1 ([0,1]^2, E = (3, 2, 1), facing down, reflecting nothing).
-Scene lamp_over_plane() {
-    Scene s;
-    s.name = "lamp over plane";
-    s.materials = {{"plane", Rgb::gray(0.5), Rgb()}, {"lamp", Rgb(), Rgb(3, 2, 1)}, {"black", Rgb(), Rgb()}};
-    s.surfaces.push_back({{{-2, -2, 0}, {3, -2, 0}, {3, 3, 0}, {-2, 3, 0}}, 0, "plane", {"test", 0}});
-    s.surfaces.push_back({{{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}}, 1, "lamp", {"test", 0}});
-    return s;
-}
-
 }  // namespace
 
 TEST(PathTracer, FurnaceReturnsEOverOneMinusRho) {
