@@ -61,12 +61,15 @@ int main(int argc, char** argv) {
     }
 
     std::vector<Setting> settings;
-    for (double k : {1.0, 4.0, 16.0}) {
+    for (double tol : {1e-3, 1e-6, 1e-9}) {
         FormFactorOptions o;
-        o.receiver_sampling = k;
-        settings.push_back({"raycast", "k=" + std::to_string(int(k)), o, 1});
+        o.unoccluded_tolerance = tol;
+        char label[32];
+        std::snprintf(label, sizeof label, "tol=%g", tol);
+        settings.push_back({"raycast", label, o, 1});
     }
-    settings.push_back({"analytic", "k=4", FormFactorOptions{}, 1});
+    settings.push_back({"analytic", "tol=1e-06", FormFactorOptions{}, 1});
+    settings.push_back({"exact", "tol=1e-08", FormFactorOptions{}, 1});
     for (int m : {1, 4, 16}) {
         FormFactorOptions o;
         o.receiver_samples = 1;

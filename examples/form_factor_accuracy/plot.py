@@ -12,8 +12,8 @@ import matplotlib.pyplot as plt
 src, dst = sys.argv[1], sys.argv[2]
 rows = list(csv.DictReader(open(src)))
 fig, ax = plt.subplots(figsize=(8, 5.5), dpi=110)
-markers = {"raycast": "o", "analytic": "s", "raycast-point": "^", "hemicube": "D"}
-for method in ["raycast", "analytic", "raycast-point", "hemicube"]:
+markers = {"raycast": "o", "analytic": "s", "exact": "P", "raycast-point": "^", "hemicube": "D"}
+for method in ["raycast", "analytic", "exact", "raycast-point", "hemicube"]:
     pts = [(max(float(r["seconds"]), 1e-7), max(float(r["relative_error"]), 1e-12)) for r in rows if r["method"] == method]
     if pts:
         ax.scatter(*zip(*pts), label=method, marker=markers[method], alpha=0.6, s=22)

@@ -17,9 +17,9 @@ class Visibility;
 /// Settings shared by the form-factor methods.
 struct FormFactorOptions {
     int visibility_rays = 4;             // rays per patch pair for the visible fraction (stratified)
-    double receiver_sampling = 4.0;      // receiver points per side = ceil(this * size / distance)
-    int max_receiver_samples = 16;       // cap on points per side of a receiver
-    int receiver_samples = 0;            // fixed points per side of a receiver; 0: adaptive (above)
+    int receiver_samples = 0;            // fixed points per side of a receiver; 0: the unoccluded
+                                         // factor to unoccluded_tolerance (below)
+    double unoccluded_tolerance = 1e-6;  // relative error of the unoccluded factor (raycast, analytic)
     std::uint64_t seed = 1;              // rays depend only on (seed, i, j): thread-count independent
     int hemicube_resolution = 256;       // pixels per side of the hemicube's top face (even)
     bool hemicube_jitter = false;        // rotate each hemicube randomly about the normal (seeded)

@@ -121,6 +121,27 @@ double area_gauss(std::span<const glm::dvec3> r, const glm::dvec3& n_r, std::spa
 
 }  // namespace
 
+int separated_gauss_order(double gap, double radius, double rel_tol) {
+    if (!(gap > 0.0) || !(radius > 0.0)) return 0;
+    const double g = gap / radius, rho = g + std::sqrt(g * g + 1.0);
+    return std::max(1, int(std::ceil(std::log(1.0 / rel_tol) / (2.0 * std::log(rho)))));
+}
+
+double separated_form_factor(std::span<const AreaSample> from, const glm::dvec3& n_from, std::span<const AreaSample> to,
+                             double area_to, const glm::dvec3& n_to) {
+    double sum = 0.0;
+    for (const auto& x : from) {
+        double inner = 0.0;
+        for (const auto& y : to) {
+            const glm::dvec3 d = y.point - x.point;
+            const double d2 = glm::dot(d, d);
+            inner += y.weight * (glm::dot(n_from, d) * -glm::dot(n_to, d)) / (d2 * d2);
+        }
+        sum += x.weight * inner;
+    }
+    return std::max(0.0, sum * area_to / kPi);
+}
+
 void polygon_quadrature(std::span<const glm::dvec3> p, int cells, int n, std::vector<AreaSample>& out) {
     out.clear();
     thread_local std::vector<double> x, w;

@@ -1,24 +1,29 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <span>
 #include <vector>
+
+#include "solver/form_factors/patch_sampling.h"
 
 #include "solver/form_factors/form_factor_estimator.h"
 
 namespace bounce {
 
-/// Ray-cast form factors in the manner of Wallace, Elmquist and Haines (1989): the exact
-/// point-to-polygon factor from quadrature points on the receiver j to the shooter i,
-/// F_ji = (1/A_j) int_Aj F(dA -> P_i) dA, times the fraction of stratified rays between the
-/// two patches that no other patch blocks; then F_ij = (A_j / A_i) F_ji by reciprocity.
-/// Each unordered pair is integrated once, over the smaller of the two patches (the kernel is
-/// exact over the other), so reciprocity holds to rounding and a row may borrow entries from
-/// rows computed before (compute_row with `known`), halving the work of a full solve.
+/// Ray-cast form factors in the manner of Wallace, Elmquist and Haines (1989): the unoccluded
+/// factor between the two patches times the fraction of stratified rays between them that no
+/// other patch blocks. Each unordered pair is computed once, with the smaller patch as
+/// receiver, and F_ij = (A_j / A_i) F_ji, so reciprocity holds to rounding and a row may borrow
+/// entries from rows computed before (compute_row with `known`), halving a full solve's work.
 ///
-/// The receiver gets n x n points with n = ceil(receiver_sampling * size / distance), so
-/// near pairs are integrated finely and far pairs with one point. The rays of a pair depend
-/// only on (seed, min(i,j), max(i,j)), so the visible fraction is the same both ways round.
-/// With no visibility (the "analytic" method) the occlusion test is skipped.
+/// The unoccluded factor is computed to `unoccluded_tolerance` (relative): a product
+/// Gauss-Legendre rule of the point-to-point kernel at the order the pair's separation
+/// predicts, or, for near pairs, polygon_form_factor (the point-to-polygon kernel, or the
+/// contour integral for touching pairs). In a closed convex room every row then sums to 1
+/// within about the tolerance. With `receiver_samples` > 0, n x n points on the receiver each
+/// take the point-to-polygon kernel instead (a fixed rule, for studies of sampling error).
+/// The rays of a pair depend only on (seed, min(i,j), max(i,j)), so the visible fraction is
+/// the same both ways round. With no visibility (the "analytic" method) rays are skipped.
 class RaycastFormFactor final : public FormFactorEstimator {
 public:
     RaycastFormFactor(const std::vector<Patch>& patches, const Visibility* visibility,
@@ -39,12 +44,26 @@ public:
     double point_factor(const glm::dvec3& x, const glm::dvec3& n, std::size_t j, std::uint64_t stream) const;
 
 private:
-    /// F_ij integrated over receiver points on j (the exact kernel covers the shooter i).
+    /// F_ij: with receiver_samples 0, the unoccluded factor to unoccluded_tolerance times the
+    /// visible fraction; otherwise n x n receiver points on j (the exact kernel covers i).
     double directed(std::size_t i, std::size_t j) const;
+    /// The unoccluded F from patch `from` to patch `to`, to unoccluded_tolerance: the product
+    /// Gauss rule at the orders separated_gauss_order predicts when the pair is well separated
+    /// (no trigonometry), else polygon_form_factor. The one-point rule it replaces errs with one
+    /// sign on every far pair: rows of a closed box summed to 1.001-1.003.
+    double unoccluded(std::size_t from, std::size_t to) const;
+    /// Gauss points of order n <= kCachedOrders (weights: fractions of the area) on a patch:
+    /// from the cache, or computed into `scratch` for patches added after construction.
+    std::span<const AreaSample> gauss_points(std::size_t patch, int n, std::vector<AreaSample>& scratch) const;
+    /// Orders above this go to polygon_form_factor: near pairs, where the point-to-polygon
+    /// kernel needs fewer points than the product rule (n^2 against n^4).
+    static constexpr int kCachedOrders = 4;
+    static constexpr std::size_t kCachedPoints = 1 + 4 + 9 + 16;
 
     const std::vector<Patch>& m_patches;
     const Visibility* m_visibility;
     FormFactorOptions m_options;
+    std::vector<AreaSample> m_points;  // kCachedPoints per patch: orders 1, 2, .. kCachedOrders
 };
 
 /// Rows from patches to elements, for shooting with an ElementHierarchy: row i holds
