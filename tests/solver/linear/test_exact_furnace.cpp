@@ -1,16 +1,20 @@
 // SPDX-License-Identifier: MIT
-// Closed scenes with the exact form factors: the furnace answers E / (1 - rho) with every
+// Closed scenes with the exact and the default form factors: the furnace answers E / (1 - rho) with every
 // solver, and rows sum to 1 even across T-junctions.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
+#include "mesh/contact_cuts.h"
+#include "mesh/cornell_box.h"
 #include "mesh/patch_mesh.h"
 #include "mesh/validation_scenes.h"
 #include "solver/form_factors/exact_form_factor.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
+#include "solver/form_factors/raycast_form_factor.h"
 #include "solver/linear/solver.h"
 #include "solver/visibility/visibility.h"
 
@@ -92,4 +96,162 @@ TEST(ExactFurnace, TJunctionBoxRowsSumToOne) {
     std::printf("t-junction box: worst |row sum - 1| %.3g\n", worst);
     EXPECT_LT(worst, 1e-9);
     EXPECT_EQ(ff.tally().partial + ff.tally().hidden, 0u);
+}
+
+namespace {
+
+/// The built-in Cornell box closed by a front wall (z = 0, facing in), without its lamp (a
+/// thin one-sided quad 0.1 below the ceiling would leave a slit), the blocks inside; every
+/// surface rho and E given. Contact cuts leave out the floor under the blocks.
+Scene closed_cornell_box(double rho, double e) {
+    Scene s = make_cornell_box();
+    std::erase_if(s.surfaces, [&](const Surface& f) { return f.object == "light"; });
+    s.surfaces.push_back({{{0, 0, 0}, {552.8, 0, 0}, {556, 548.8, 0}, {0, 548.8, 0}}, 0, "front wall", {"test", 0}});
+    for (auto& m : s.materials) {
+        m.reflectance = Rgb::gray(rho);
+        m.emission = Rgb::gray(e);
+    }
+    s.covered = find_covered_regions(s);
+    return s;
+}
+
+/// sum_j F_ij for every i, each unordered pair computed once in double (pair() is reciprocal).
+template <class FF>
+std::vector<double> row_sums(const FF& ff, const std::vector<Patch>& P) {
+    std::vector<double> sums(P.size(), 0.0);
+    for (std::size_t i = 0; i < P.size(); ++i)
+        for (std::size_t j = i + 1; j < P.size(); ++j) {
+            const double fij = ff.pair(i, j);
+            sums[i] += fij;
+            sums[j] += fij * P[i].area / P[j].area;
+        }
+    return sums;
+}
+
+double worst_deviation(const std::vector<double>& sums) {
+    double worst = 0;
+    for (const double s : sums) worst = std::max(worst, std::abs(s - 1));
+    return worst;
+}
+
+}  // namespace
+
+TEST(ClosedScenes, DefaultMethodRho099CubeGives100WithEverySolver) {
+    // The same furnace with the default method (raycast, Embree): its unoccluded factors are
+    // within 1e-6 relative, so B is within about 100 x 1e-6 of 100.
+    MeshingOptions o;
+    o.max_edge = 1.0 / 12 * (1 + 1e-9);
+    const PatchMesh mesh(closed_box({1, 1, 1}, {"w", Rgb::gray(0.99), Rgb::gray(1.0)}), o);
+    const auto& P = mesh.patches();
+    const auto vis = make_visibility("embree", P);
+    const auto ff = make_form_factor_estimator("raycast", P, vis.get(), {});
+    const auto F = FormFactorMatrix::build(*ff, P.size(), std::size_t(1) << 30);
+    const MatrixFormFactor rows(F, "raycast");
+    for (const char* name : {"direct", "jacobi", "gauss-seidel", "shooting"}) {
+        SolverOptions so;
+        so.tolerance = std::string(name) == "shooting" ? 1e-7 : 1e-9;
+        so.max_iterations = std::string(name) == "shooting" ? 4000000 : 5000;
+        const SolveResult r = make_solver(name, {P, &rows, &F}, so)->solve();
+        double worst = 0;
+        for (const auto& b : r.radiosity) worst = std::max(worst, std::abs(b.g / 100.0 - 1.0));
+        std::printf("furnace rho 0.99, 12x12 cube, raycast: %-12s %zu steps, %s, worst |B/100 - 1| = %.2g\n", name,
+                    r.steps, r.converged ? "converged" : r.status.c_str(), worst);
+        if (r.converged)
+            EXPECT_LT(worst, 1e-4) << name;
+        else
+            ADD_FAILURE() << name << " did not converge within its budget: " << r.status;
+    }
+}
+
+TEST(ClosedScenes, DefaultMethodCubeRowsSumToOneAndAreReciprocal) {
+    // Each face cut n x n: rows within 1e-6 of 1 with the default method, reciprocity to rounding.
+    for (const int n : {6, 12, 20}) {
+        MeshingOptions o;
+        o.max_edge = 1.0 / n * (1 + 1e-9);
+        const PatchMesh mesh(closed_box({1, 1, 1}, {"w", Rgb::gray(0.5), Rgb::gray(0)}), o);
+        const auto& P = mesh.patches();
+        ASSERT_EQ(P.size(), std::size_t(6 * n * n));
+        const auto vis = make_visibility("embree", P);
+        const RaycastFormFactor ff(P, vis.get(), {});
+        const double worst = worst_deviation(row_sums(ff, P));
+        double worst_recip = 0;
+        for (std::size_t i = 0; i < P.size(); i += 37)
+            for (std::size_t j = 0; j < P.size(); ++j) {
+                const double fij = ff.pair(i, j);
+                if (fij > 0)
+                    worst_recip = std::max(worst_recip, std::abs(P[i].area * fij - P[j].area * ff.pair(j, i)) /
+                                                            (P[i].area * fij));
+            }
+        std::printf("cube %dx%d, raycast: worst |row sum - 1| %.3g, reciprocity %.3g\n", n, n, worst, worst_recip);
+        EXPECT_LT(worst, 1e-6) << n;
+        EXPECT_LT(worst_recip, 1e-12) << n;
+    }
+}
+
+TEST(ClosedScenes, DefaultMethodTJunctionBoxRowsSumToOne) {
+    // Patches whose edges meet mid-edge: the near pairs go to the contour integral, exact.
+    Scene s;
+    s.name = "t-junction box";
+    s.materials = {{"w", Rgb::gray(0.5), Rgb()}};
+    const auto quad = [&](glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3 d) {
+        s.surfaces.push_back({{a, b, c, d}, 0, "wall", {"test", 0}});
+    };
+    for (int k = 0; k < 3; ++k) quad({k / 3.0, 0, 0}, {(k + 1) / 3.0, 0, 0}, {(k + 1) / 3.0, 1, 0}, {k / 3.0, 1, 0});
+    for (int k = 0; k < 2; ++k) quad({k / 2.0, 0, 1}, {k / 2.0, 1, 1}, {(k + 1) / 2.0, 1, 1}, {(k + 1) / 2.0, 0, 1});
+    for (int k = 0; k < 2; ++k) quad({0, k / 2.0, 0}, {0, (k + 1) / 2.0, 0}, {0, (k + 1) / 2.0, 1}, {0, k / 2.0, 1});
+    for (int k = 0; k < 3; ++k) quad({1, k / 3.0, 0}, {1, k / 3.0, 1}, {1, (k + 1) / 3.0, 1}, {1, (k + 1) / 3.0, 0});
+    quad({0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0});
+    quad({0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1});
+    MeshingOptions o;
+    o.max_edge = 0.26;  // cut further, unevenly against the strips
+    const PatchMesh mesh(s, o);
+    const auto& P = mesh.patches();
+    const auto vis = make_visibility("embree", P);
+    const RaycastFormFactor ff(P, vis.get(), {});
+    const double worst = worst_deviation(row_sums(ff, P));
+    std::printf("t-junction box, %zu patches, raycast: worst |row sum - 1| %.3g\n", P.size(), worst);
+    EXPECT_LT(worst, 1e-6);
+}
+
+TEST(ClosedScenes, ClosedCornellBoxRowsAndFurnaceStayWithinTheirMeasuredBounds) {
+    // Blocks inside, so pairs are partly hidden. The exact method's rows, and the furnace (rho
+    // 0.9, E 1 everywhere: E / (1 - rho) = 10). Measured: rows within 4.7e-3, B within 0.42%.
+    // What limits them is the kernel-weighted rays of pairs with more than two candidate
+    // blockers (their error falls like 1/n); clipping every shadow instead gives rows within
+    // 4e-4 but takes 20x longer. The goal (rows 1e-4, B 0.1%) is not met yet.
+    MeshingOptions o;
+    o.target_patches = 500;
+    const PatchMesh mesh(closed_cornell_box(0.9, 1.0), o);
+    const auto& P = mesh.patches();
+    const auto vis = make_visibility("embree", P);
+    const ExactFormFactor exact(P, true, {}, vis.get());
+    const auto sums = row_sums(exact, P);
+    const PairTally t = exact.tally();
+    std::printf("closed cornell box, %zu patches, exact: worst |row sum - 1| %.3g (%llu unoccluded, %llu partial, "
+                "%llu hidden pairs)\n",
+                P.size(), worst_deviation(sums), (unsigned long long)t.unoccluded, (unsigned long long)t.partial,
+                (unsigned long long)t.hidden);
+    EXPECT_LT(worst_deviation(sums), 1e-2);
+    EXPECT_GT(t.partial, 0u);
+
+    const auto F = FormFactorMatrix::build(exact, P.size(), std::size_t(1) << 30);
+    const MatrixFormFactor rows(F, "exact");
+    for (const char* name : {"gauss-seidel", "shooting"}) {
+        SolverOptions so;
+        so.tolerance = std::string(name) == "shooting" ? 1e-7 : 1e-9;
+        so.max_iterations = std::string(name) == "shooting" ? 4000000 : 5000;
+        const SolveResult r = make_solver(name, {P, &rows, &F}, so)->solve();
+        ASSERT_TRUE(r.converged) << name << ": " << r.status;
+        double worst = 0;
+        for (const auto& b : r.radiosity) worst = std::max(worst, std::abs(b.g / 10.0 - 1.0));
+        std::printf("closed cornell furnace, exact: %-12s worst |B/10 - 1| = %.2g\n", name, worst);
+        EXPECT_LT(worst, 6e-3) << name;
+    }
+
+    // The default method on the same box: its partly hidden pairs take the unweighted fraction
+    // of rays, so rows stray further; reported, and bounded loosely.
+    const RaycastFormFactor raycast(P, vis.get(), {});
+    const double dev = worst_deviation(row_sums(raycast, P));
+    std::printf("closed cornell box, raycast: worst |row sum - 1| %.3g\n", dev);
+    EXPECT_LT(dev, 0.05);
 }
