@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "mesh/contact_cuts.h"
+#include "mesh/discontinuity_mesh.h"
 #include "mesh/input_error.h"
 #include "mesh/polygon.h"
 
@@ -54,6 +55,7 @@ struct MeshPlan {
     std::vector<std::pair<int, Piece>> pieces;  // surface index, piece
     double patches = 0.0;                       // in all, with the element split
     double edge = 0.0;                          // edge length used for quads
+    double max_area = 0.0;                      // the area limit (0: none)
 };
 
 MeshPlan plan_mesh(const Scene& scene, const MeshingOptions& options) {
@@ -70,6 +72,10 @@ MeshPlan plan_mesh(const Scene& scene, const MeshingOptions& options) {
     if (!options.subdivide) h = 0.0;
     MeshPlan plan;
     plan.edge = h;
+    plan.max_area = options.subdivide ? max_area : 0.0;
+    if (options.subdivide && options.max_edge > 0)  // a triangle with edges below h has area below h^2 sqrt(3) / 4
+        plan.max_area = std::sqrt(3.0) / 4 * options.max_edge * options.max_edge;
+    if (options.subdivide && max_area > 0 && options.max_edge > 0) plan.max_area = std::min(plan.max_area, max_area);
 
     for (std::size_t si = 0; si < scene.surfaces.size(); ++si) {
         const auto& poly = scene.surfaces[si].vertices;
@@ -179,6 +185,29 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         cut_points.emplace_back(p, vertex(p));
         return cut_points.back().second;
     };
+    // Discontinuity meshing: the surfaces with traced shadow boundaries are triangulated with
+    // them as constraints (Lischinski, Tampieri and Greenberg 1992); their vertices are their own,
+    // like every surface's, so conformity is a property of each triangulation.
+    std::vector<bool> triangulated(scene.surfaces.size(), false);
+    if (options.kind == MeshingOptions::Kind::discontinuity) {
+        if (split != 1) throw InputError("meshing: discontinuity meshing does not combine with an element split");
+        const TracedDiscontinuities traced = trace_discontinuities(scene, options.max_discontinuities);
+        m_warnings = traced.warnings;
+        for (std::size_t si = 0; si < scene.surfaces.size(); ++si) {
+            if (traced.per_surface[si].empty()) continue;
+            const SurfaceTriangulation t =
+                triangulate_surface(scene, int(si), traced.per_surface[si], plan.max_area, options.aspect_bound);
+            if (t.triangles.empty()) continue;  // degenerate: the grid below meshes it
+            if (double(m_patches.size() + t.triangles.size()) > double(options.max_patches))
+                throw InputError("meshing would make more than the limit of " + std::to_string(options.max_patches) +
+                                 " patches (raise --max-area or --max-edge, or --max-memory)");
+            triangulated[si] = true;
+            std::vector<OpenPatchMesh::VertexHandle> h;
+            for (const V& p : t.points) h.push_back(vertex(p));
+            for (const auto& tri : t.triangles) emit_face(int(si), {h[tri[0]], h[tri[1]], h[tri[2]]});
+        }
+    }
+
     auto emit_patch = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
         if (!cut || covered[std::size_t(si)].empty()) return emit_face(si, vh);
         std::vector<V> poly;
@@ -216,6 +245,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     };
 
     for (const auto& [si, piece] : pieces) {
+        if (triangulated[std::size_t(si)]) continue;
         const auto& c = piece.corners;
         if (c.size() == 4) {
             // Bilinear grid: sub-quads of a planar quad are planar and tile it exactly.
@@ -273,8 +303,9 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
             parent = next;
         }
     }
-    // Cut patches were emitted in pieces (or not at all): with split 1 every face is its own parent.
-    if (cut)
+    // Cut patches were emitted in pieces (or not at all), triangulated surfaces in triangles: with
+    // split 1 every face is its own parent.
+    if (cut || options.kind == MeshingOptions::Kind::discontinuity)
         for (std::size_t i = 0; i < m_parent.size(); ++i) m_parent[i] = std::uint32_t(i);
 }
 
