@@ -489,7 +489,7 @@ private:
 
 SurfaceTriangulation triangulate_surface(const Scene& scene, int surface,
                                          const std::vector<DiscontinuitySegment>& segments, double max_area,
-                                         double aspect_bound) {
+                                         double aspect_bound, const std::vector<glm::dvec3>& outline_points) {
     SurfaceTriangulation out;
     const auto& poly = scene.surfaces[std::size_t(surface)].vertices;
     const Frame f = frame_of(poly);
@@ -576,45 +576,81 @@ SurfaceTriangulation triangulate_surface(const Scene& scene, int surface,
             if (inside_polygon(c, h)) return false;
         return true;
     };
-    std::map<CDT::Face_handle, int> region;
-    for (auto fit = cdt.all_faces_begin(); fit != cdt.all_faces_end(); ++fit) {
-        const CDT::Face_handle start = fit;
-        if (region.count(start)) continue;
-        std::vector<CDT::Face_handle> faces = {start};
-        region[start] = 1;
-        bool infinite = false;
-        double area = 0, best = -1;
-        P2 representative(0.0);
-        for (std::size_t k = 0; k < faces.size(); ++k) {
-            const CDT::Face_handle fh = faces[k];
-            if (cdt.is_infinite(fh)) {
-                infinite = true;
-            } else {
-                const P2 a = to_p2(fh->vertex(0)->point()), b = to_p2(fh->vertex(1)->point()),
-                         c = to_p2(fh->vertex(2)->point());
-                const double t = 0.5 * std::abs(cross2(b - a, c - a));
-                area += t;
-                if (t > best) {
-                    best = t;
-                    representative = (a + b + c) / 3.0;
+    auto mark_domain = [&] {
+        std::map<CDT::Face_handle, int> region;
+        for (auto fit = cdt.all_faces_begin(); fit != cdt.all_faces_end(); ++fit) {
+            const CDT::Face_handle start = fit;
+            if (region.count(start)) continue;
+            std::vector<CDT::Face_handle> faces = {start};
+            region[start] = 1;
+            bool infinite = false;
+            double area = 0, best = -1;
+            P2 representative(0.0);
+            for (std::size_t k = 0; k < faces.size(); ++k) {
+                const CDT::Face_handle fh = faces[k];
+                if (cdt.is_infinite(fh)) {
+                    infinite = true;
+                } else {
+                    const P2 a = to_p2(fh->vertex(0)->point()), b = to_p2(fh->vertex(1)->point()),
+                             c = to_p2(fh->vertex(2)->point());
+                    const double t = 0.5 * std::abs(cross2(b - a, c - a));
+                    area += t;
+                    if (t > best) {
+                        best = t;
+                        representative = (a + b + c) / 3.0;
+                    }
                 }
+                for (int i = 0; i < 3; ++i)
+                    if (!fh->is_constrained(i) && !region.count(fh->neighbor(i))) {
+                        region[fh->neighbor(i)] = 1;
+                        faces.push_back(fh->neighbor(i));
+                    }
             }
-            for (int i = 0; i < 3; ++i)
-                if (!fh->is_constrained(i) && !region.count(fh->neighbor(i))) {
-                    region[fh->neighbor(i)] = 1;
-                    faces.push_back(fh->neighbor(i));
-                }
+            const bool in = !infinite && area > 1e-9 * f.area && in_domain(representative);
+            for (const auto& fh : faces) fh->set_in_domain(in);
         }
-        const bool in = !infinite && area > 1e-9 * f.area && in_domain(representative);
-        for (const auto& fh : faces) fh->set_in_domain(in);
-    }
+    };
+    mark_domain();
     CGAL::Delaunay_mesher_2<CDT, Criteria> mesher(cdt, Criteria(aspect_bound, max_area));
     mesher.init(true);
     mesher.refine_mesh();
 
-    std::map<CDT::Vertex_handle, std::uint32_t> index;
+    // The neighbours' points on the shared outline, each put into the outline edge it lies on
+    // (forced: a rounding error off the edge must still split it), after the refinement so the
+    // seam is not split again (refining both sides in turn would chase each other's points).
+    // Flips may then leave a triangle next to the seam above the area limit: such triangles get
+    // their centroid (an interior point, so the seam stays as it is).
+    if (!outline_points.empty()) {
+        for (const V& p3 : outline_points) {
+            const P2 q = f.to2(p3);
+            for (auto e = cdt.finite_edges_begin(); e != cdt.finite_edges_end(); ++e) {
+                if (!cdt.is_constrained(*e)) continue;
+                const P2 a = to_p2(e->first->vertex(CDT::cw(e->second))->point());
+                const P2 d = to_p2(e->first->vertex(CDT::ccw(e->second))->point()) - a;
+                const double t = glm::dot(q - a, d) / glm::dot(d, d);
+                if (t <= 1e-9 || t >= 1 - 1e-9 || glm::length(a + t * d - q) > snap) continue;
+                cdt.insert(K::Point_2(q.x, q.y), CDT::EDGE, e->first, e->second);
+                anchors.push_back(q);
+                anchor3.push_back(p3);
+                break;
+            }
+        }
+        mark_domain();
+        for (int round = 0; round < 16 && max_area > 0; ++round) {
+            std::vector<K::Point_2> centroids;
+            for (auto fit = cdt.finite_faces_begin(); fit != cdt.finite_faces_end(); ++fit)
+                if (fit->is_in_domain() &&
+                    CGAL::area(fit->vertex(0)->point(), fit->vertex(1)->point(), fit->vertex(2)->point()) > max_area)
+                    centroids.push_back(
+                        CGAL::centroid(fit->vertex(0)->point(), fit->vertex(1)->point(), fit->vertex(2)->point()));
+            if (centroids.empty()) break;
+            for (const auto& c : centroids) cdt.insert(c);
+            mark_domain();
+        }
+    }
     std::map<std::pair<double, double>, std::size_t> anchor_at;
     for (std::size_t k = 0; k < anchors.size(); ++k) anchor_at[{anchors[k].x, anchors[k].y}] = k;
+    std::map<CDT::Vertex_handle, std::uint32_t> index;
     auto point_index = [&](CDT::Vertex_handle v) {
         const auto [it, fresh] = index.emplace(v, std::uint32_t(out.points.size()));
         if (fresh) {

@@ -58,8 +58,11 @@ struct SurfaceTriangulation {
 /// triangles whose circumradius-to-shortest-edge ratio bound is `aspect_bound` (CGAL's B: 0.125
 /// is a smallest angle of about 20.7 degrees) and whose area is at most `max_area` (0: no
 /// limit). The covered regions are left out. Every segment is a union of triangle edges.
+/// `outline_points` (points of a coplanar neighbour's triangulation on the shared outline) are
+/// made vertices of the outline after refinement, so both sides of the seam have the same.
 SurfaceTriangulation triangulate_surface(const Scene& scene, int surface,
                                          const std::vector<DiscontinuitySegment>& segments, double max_area,
-                                         double aspect_bound = 0.125);
+                                         double aspect_bound = 0.125,
+                                         const std::vector<glm::dvec3>& outline_points = {});
 
 }  // namespace bounce

@@ -193,10 +193,81 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         if (split != 1) throw InputError("meshing: discontinuity meshing does not combine with an element split");
         const TracedDiscontinuities traced = trace_discontinuities(scene, options.max_discontinuities);
         m_warnings = traced.warnings;
-        for (std::size_t si = 0; si < scene.surfaces.size(); ++si) {
-            if (traced.per_surface[si].empty()) continue;
-            const SurfaceTriangulation t =
-                triangulate_surface(scene, int(si), traced.per_surface[si], plan.max_area, options.aspect_bound);
+        // A (nearly) coplanar neighbour sharing an edge with a triangulated surface (the red wall's
+        // two triangles, 0.2 degrees apart) is triangulated too, and each takes the other's points
+        // on the seam: no T-vertex where the two meet. (At creases, as in the uniform mesh, each
+        // surface keeps its own vertices.)
+        const std::size_t n = scene.surfaces.size();
+        auto emits = [&](std::size_t si) { return scene.materials[std::size_t(scene.surfaces[si].material)].emission.max() > 0; };
+        std::vector<std::vector<std::size_t>> neighbours(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto& a = scene.surfaces[i].vertices;
+            const V na = newell_normal(a);
+            if (!(glm::length(na) > 0) || emits(i)) continue;
+            const double tol = 1e-9 * std::sqrt(glm::length(na));
+            for (std::size_t j = i + 1; j < n; ++j) {
+                const auto& b = scene.surfaces[j].vertices;
+                const V nb = newell_normal(b);
+                if (!(glm::length(nb) > 0) || emits(j) ||
+                    glm::dot(na, nb) < std::cos(0.02) * glm::length(na) * glm::length(nb))  // about a degree
+                    continue;
+                bool shared = false;
+                for (std::size_t k = 0; k < a.size() && !shared; ++k)
+                    for (std::size_t l = 0; l < b.size() && !shared; ++l)
+                        shared = glm::length(a[k] - b[(l + 1) % b.size()]) <= tol &&
+                                 glm::length(a[(k + 1) % a.size()] - b[l]) <= tol;
+                if (shared) {
+                    neighbours[i].push_back(j);
+                    neighbours[j].push_back(i);
+                }
+            }
+        }
+        std::vector<bool> wanted(n, false);
+        std::vector<std::size_t> queue;
+        for (std::size_t si = 0; si < n; ++si)
+            if (!traced.per_surface[si].empty()) {
+                wanted[si] = true;
+                queue.push_back(si);
+            }
+        for (std::size_t k = 0; k < queue.size(); ++k)
+            for (const std::size_t j : neighbours[queue[k]])
+                if (!wanted[j]) {
+                    wanted[j] = true;
+                    queue.push_back(j);
+                }
+        std::vector<SurfaceTriangulation> first(n);
+        for (std::size_t si = 0; si < n; ++si)
+            if (wanted[si])
+                first[si] = triangulate_surface(scene, int(si), traced.per_surface[si], plan.max_area, options.aspect_bound);
+        // The seams: each surface again, with its neighbours' points on the shared edges that it
+        // lacks put in after refinement (mesh/discontinuity_mesh.h).
+        std::vector<SurfaceTriangulation> with_seams = first;
+        for (std::size_t si = 0; si < n; ++si) {
+            if (!wanted[si]) continue;
+            const auto& poly = scene.surfaces[si].vertices;
+            const double tol = 1e-9 * std::sqrt(polygon_area(poly));
+            std::vector<V> seam;
+            for (const std::size_t j : neighbours[si])
+                for (const V& p : first[j].points) {
+                    bool on = false;
+                    for (std::size_t k = 0; k < poly.size() && !on; ++k) {
+                        const V a = poly[k], d = poly[(k + 1) % poly.size()] - a;
+                        const double t = glm::dot(p - a, d) / glm::dot(d, d);
+                        on = t > 1e-9 && t < 1 - 1e-9 && glm::length(a + t * d - p) <= tol;
+                    }
+                    if (!on) continue;
+                    bool known = false;
+                    for (const V& q : first[si].points) known = known || glm::length(q - p) <= tol;
+                    if (!known) seam.push_back(p);
+                }
+            if (!seam.empty())
+                with_seams[si] = triangulate_surface(scene, int(si), traced.per_surface[si], plan.max_area,
+                                                     options.aspect_bound, seam);
+        }
+        first = std::move(with_seams);
+        for (std::size_t si = 0; si < n; ++si) {
+            if (!wanted[si]) continue;
+            const SurfaceTriangulation& t = first[si];
             if (t.triangles.empty()) continue;  // degenerate: the grid below meshes it
             if (double(m_patches.size() + t.triangles.size()) > double(options.max_patches))
                 throw InputError("meshing would make more than the limit of " + std::to_string(options.max_patches) +

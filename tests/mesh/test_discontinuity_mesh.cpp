@@ -114,6 +114,28 @@ Conformity conformity(const PatchMesh& m, int surface) {
     return c;
 }
 
+/// Exported vertices lying on the open edge of a patch of another surface within a degree of
+/// its own (the seams a T-vertex would show on; at creases each surface has its own vertices,
+/// in the uniform mesh too).
+std::size_t seam_t_vertices(const PatchMesh& m) {
+    std::size_t count = 0;
+    const auto& P = m.patches();
+    for (std::size_t i = 0; i < P.size(); ++i)
+        for (std::size_t j = 0; j < P.size(); ++j) {
+            if (P[i].surface == P[j].surface || glm::dot(P[i].normal, P[j].normal) < std::cos(0.02)) continue;
+            for (int e = 0; e < P[j].vertex_count; ++e) {
+                const V a = P[j].vertices[e], d = P[j].vertices[(e + 1) % P[j].vertex_count] - a;
+                const double len = glm::length(d);
+                for (int k = 0; k < P[i].vertex_count; ++k) {
+                    const V q = P[i].vertices[k];
+                    const double t = glm::dot(q - a, d) / (len * len);
+                    if (t > 1e-9 && t < 1 - 1e-9 && glm::length(a + t * d - q) <= 1e-9 * len) ++count;
+                }
+            }
+        }
+    return count;
+}
+
 double perimeter(const std::vector<V>& poly) {
     double p = 0;
     for (std::size_t k = 0; k < poly.size(); ++k) p += glm::length(poly[(k + 1) % poly.size()] - poly[k]);
@@ -246,6 +268,9 @@ TEST(DiscontinuityMesh, CornellBoxConformsAndEmitsWhatItEmitted) {
         if (s.surfaces[std::size_t(p.surface)].object == "floor") floor_triangles += p.vertex_count == 3;
     EXPECT_GT(floor_triangles, 100u);
     expect_conforming(s, m);
+    // The red wall's two triangles (0.2 degrees apart) share their seam's vertices.
+    EXPECT_EQ(seam_t_vertices(uniform), 0u);
+    EXPECT_EQ(seam_t_vertices(m), 0u);
     // The energy account: emitted power and total area are those of the uniform mesh.
     const Rgb eu = uniform.emitted_power(), ed = m.emitted_power();
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(ed[c] / eu[c], 1.0, 1e-12);
