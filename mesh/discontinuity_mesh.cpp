@@ -214,6 +214,11 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
     const double diag = n ? glm::length(hi - lo) : 0.0;
     if (!(diag > 0) || !std::isfinite(diag)) return out;
     const double eps = 1e-9 * diag;
+    // A vertex or a whole edge this close to a receiver rests on it (the contact tolerance of
+    // mesh/contact_cuts.h): its shadow there is the contact outline, which the contact cut
+    // already follows, and a trace of it would run a hair beside that outline (a sliver the
+    // refinement would have to fill with needle-sized triangles).
+    const double contact = 5e-4 * diag;
 
     std::vector<Frame> frames(n);
     std::vector<bool> is_emitter(n, false);
@@ -278,7 +283,7 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
             for (std::size_t v = 0; v < occ.points.size(); ++v) {
                 const V& x = occ.points[v];
                 const double hx = R.height(x);
-                if (!(hx > eps) || !(E.height(x) > eps)) continue;
+                if (!(hx > contact) || !(E.height(x) > eps)) continue;
                 int owner = -1;
                 for (const auto& [fi, k] : occ.around[v])
                     if (occ.faces[std::size_t(fi)].surface != int(r)) owner = occ.faces[std::size_t(fi)].surface;
@@ -326,7 +331,7 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
                 int owner = -1;
                 for (const auto& [fi, c] : faces)
                     if (occ.faces[std::size_t(fi)].surface != int(r)) owner = occ.faces[std::size_t(fi)].surface;
-                if (owner < 0) continue;
+                if (owner < 0 || (R.height(a) <= contact && R.height(b) <= contact)) continue;
                 for (const V& u : light) {
                     const double hu = R.height(u);
                     if (!(hu > eps)) continue;
@@ -367,8 +372,9 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
         }
     }
 
-    // Coplanar overlapping faces: each casts and receives boundaries of its own, and the overlap
-    // is meshed (and lit) twice. Not an error (a decal on a wall), but worth one line.
+    // Coplanar overlapping faces facing the same way: each casts and receives boundaries of its
+    // own, and the overlap is meshed (and lit) twice. Not an error (a decal on a wall), but worth
+    // one line.
     std::size_t overlaps = 0;
     std::pair<std::size_t, std::size_t> first_overlap;
     auto strictly_inside = [&](const P2& p, const std::vector<P2>& poly) {
@@ -383,8 +389,9 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
     for (std::size_t a = 0; a < n; ++a) {
         if (!frames[a].valid) continue;
         for (std::size_t b = a + 1; b < n; ++b) {
-            if (!frames[b].valid || std::abs(std::abs(glm::dot(frames[a].normal, frames[b].normal)) - 1) > 1e-9)
-                continue;
+            // Facing the same way: a face against its back (a block's bottom on the floor) is a
+            // contact, which the contact cuts handle.
+            if (!frames[b].valid || glm::dot(frames[a].normal, frames[b].normal) < 1 - 1e-9) continue;
             bool coplanar = true;
             for (const V& p : scene.surfaces[b].vertices)
                 coplanar = coplanar && std::abs(frames[a].height(p)) <= 1e3 * eps;
@@ -613,7 +620,18 @@ SurfaceTriangulation triangulate_surface(const Scene& scene, int surface,
     mark_domain();
     CGAL::Delaunay_mesher_2<CDT, Criteria> mesher(cdt, Criteria(aspect_bound, max_area));
     mesher.init(true);
-    mesher.refine_mesh();
+    // Constraints a hair apart over a long stretch (input the tracing did not foresee) would ask
+    // for needles without end: past the budget the surface is given up (the caller meshes it
+    // with its grid and says so).
+    const double planned = max_area > 0 ? f.area / max_area : 0.0;
+    const std::size_t budget = std::size_t(std::min(1e7, 20 * planned + 50.0 * double(chained.size()) + 1000));
+    while (!mesher.is_refinement_done()) {
+        mesher.step_by_step_refine_mesh();
+        if (cdt.number_of_vertices() > budget) {
+            out.over_budget = true;
+            return out;
+        }
+    }
 
     // The neighbours' points on the shared outline, each put into the outline edge it lies on
     // (forced: a rounding error off the edge must still split it), after the refinement so the

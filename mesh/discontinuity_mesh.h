@@ -51,6 +51,7 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
 struct SurfaceTriangulation {
     std::vector<glm::dvec3> points;                       // the surface's own corners keep their coordinates
     std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise seen from the front
+    bool over_budget = false;  // the refinement needed far more points than the area limit asks: no triangles
 };
 
 /// Constrained Delaunay triangulation (CGAL) of surface `surface`'s polygon with the segments

@@ -265,6 +265,26 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
                                                      options.aspect_bound, seam);
         }
         first = std::move(with_seams);
+        // A surface whose refinement ran over its budget keeps its grid, and so do its seam
+        // neighbours (their seam points would be missing on its side).
+        std::vector<std::size_t> given_up;
+        for (std::size_t si = 0; si < n; ++si)
+            if (wanted[si] && first[si].over_budget) given_up.push_back(si);
+        for (std::size_t k = 0; k < given_up.size(); ++k)
+            for (const std::size_t j : neighbours[given_up[k]])
+                if (wanted[j] && !first[j].triangles.empty()) {
+                    first[j] = {};
+                    given_up.push_back(j);
+                }
+        if (!given_up.empty()) {
+            std::ostringstream msg;
+            msg << "discontinuity meshing: the shadow boundaries on "
+                << describe(scene.surfaces[given_up[0]].where, scene.surfaces[given_up[0]].object);
+            if (given_up.size() > 1)
+                msg << " and " << given_up.size() - 1 << " more surface" << (given_up.size() > 2 ? "s" : "");
+            msg << " leave slivers too thin to mesh within the area limit; meshed uniformly";
+            m_warnings.push_back(msg.str());
+        }
         for (std::size_t si = 0; si < n; ++si) {
             if (!wanted[si]) continue;
             const SurfaceTriangulation& t = first[si];

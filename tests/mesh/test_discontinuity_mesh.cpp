@@ -257,6 +257,20 @@ TEST(DiscontinuityMesh, TheCapKeepsTheLongestAndSaysSoOnce) {
     EXPECT_LE(longest_dropped, shortest_kept + 1e-12);
 }
 
+TEST(DiscontinuityMesh, ConstraintsAHairApartAreGivenUpNotRefinedWithoutEnd) {
+    // Two boundaries 1e-4 apart over 6 units: a sliver needing some 10^5 triangles at any
+    // quality bound, far beyond the 64 / 0.5 the area limit asks for.
+    const Scene s = light_blocker_plane();
+    DiscontinuitySegment a, b;
+    a.a = V(0, -3, 0);
+    a.b = V(0, 3, 0);
+    b.a = V(1e-4, -3, 0);
+    b.b = V(1e-4, 3, 0);
+    const SurfaceTriangulation t = triangulate_surface(s, 0, {a, b}, 0.5);
+    EXPECT_TRUE(t.over_budget);
+    EXPECT_TRUE(t.triangles.empty());
+}
+
 TEST(DiscontinuityMesh, CornellBoxConformsAndEmitsWhatItEmitted) {
     const Scene s = load_scene("cornell");
     const PatchMesh uniform(s, MeshingOptions{});
