@@ -87,7 +87,10 @@ PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& 
         std::cerr << "note: meshing into " << std::size_t(planned) << " patches (about "
                   << std::size_t(planned * kBytesPerPatch / double(1 << 20))
                   << " MB for the mesh alone; a shooting solve grows like N^1.9, 47 s at 16k patches)\n";
-    return PatchMesh(scene, m);
+    PatchMesh mesh(scene, m);
+    if (!o.quiet)
+        for (const auto& w : mesh.warnings()) std::cerr << "warning: " << w << "\n";
+    return mesh;
 }
 
 bool default_meshing(const CommonOptions& o) {
@@ -163,6 +166,20 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
         "--no-contact-cuts", [&o](std::int64_t) { o.meshing.cut_contacts = false; },
         "mesh every surface whole, also where an object rests on it (by default the parts no light can reach, "
         "like a floor under a block, are left out)");
+    cmd->add_option(
+           "--meshing",
+           [&o](const CLI::results_t& v) {
+               if (v[0] != "uniform" && v[0] != "discontinuity") return false;
+               o.meshing.kind = v[0] == "uniform" ? MeshingOptions::Kind::uniform : MeshingOptions::Kind::discontinuity;
+               return true;
+           },
+           "uniform (grids of the --max-area limit, default) or discontinuity (surfaces receiving shadow boundaries of "
+           "the emitters' direct light are triangulated along them, Heckbert 1992)")
+        ->type_name("TEXT")
+        ->check(CLI::IsMember({"uniform", "discontinuity"}));
+    cmd->add_option("--max-discontinuities", o.meshing.max_discontinuities,
+                    "shadow boundaries kept per surface with --meshing discontinuity, the longest (400)")
+        ->check(in_range(std::size_t(1), std::size_t(1000000)));
     cmd->add_flag("--flip", o.flip,
                   "turn every face round (for scenes wound clockwise seen from the front, which light from the back)");
     cmd->add_flag("-q,--quiet", o.quiet, "no progress line, no warnings");

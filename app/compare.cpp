@@ -127,19 +127,25 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         add_row("uniform", "level " + std::to_string(level), 0, u.result.seconds, rms_difference(u, reference),
                 u.tree.conforming_mesh(u.leaves), u.result.radiosity);
     }
-    // Uniform patch meshes solved by the default path (every patch shoots), as `solve --patches N` runs.
-    for (const std::size_t n : c.patch_counts) {
-        const auto t0 = std::chrono::steady_clock::now();
-        MeshingOptions m = o.meshing;
-        m.target_patches = n;
-        m.max_area = m.max_edge = 0;
-        const PatchMesh um(scene, m);
-        const auto uv = make_visibility(o.visibility, um.patches());
-        const auto ff = make_form_factor_estimator("raycast", um.patches(), uv.get(), c.ff);
-        SolverOptions so;
-        so.cancel = &g_interrupted;
-        const SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
-        add_row("patches", "--patches " + std::to_string(n), 0, seconds_since(t0), -1.0, um, r.radiosity);
+    // Uniform patch meshes solved by the default path (every patch shoots), as `solve --patches N` runs,
+    // and the same area limits with --meshing discontinuity (the meshing's time counted in the row's).
+    for (const auto kind : {MeshingOptions::Kind::uniform, MeshingOptions::Kind::discontinuity}) {
+        for (const std::size_t n : c.patch_counts) {
+            const auto t0 = std::chrono::steady_clock::now();
+            MeshingOptions m = o.meshing;
+            m.kind = kind;
+            m.target_patches = n;
+            m.max_area = m.max_edge = 0;
+            const PatchMesh um(scene, m);
+            const auto uv = make_visibility(o.visibility, um.patches());
+            const auto ff = make_form_factor_estimator("raycast", um.patches(), uv.get(), c.ff);
+            SolverOptions so;
+            so.cancel = &g_interrupted;
+            const SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
+            add_row(kind == MeshingOptions::Kind::uniform ? "patches" : "discontinuity",
+                    "--patches " + std::to_string(n), 0, seconds_since(t0), -1.0, um, r.radiosity);
+            if (g_interrupted.load()) break;
+        }
         if (g_interrupted.load()) break;
     }
     for (const double target : {0.2, 0.1, 0.07, 0.05, 0.035}) {

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "mesh/contact_cuts.h"
+#include "mesh/discontinuity_mesh.h"
 #include "mesh/input_error.h"
 #include "mesh/polygon.h"
 
@@ -54,6 +55,7 @@ struct MeshPlan {
     std::vector<std::pair<int, Piece>> pieces;  // surface index, piece
     double patches = 0.0;                       // in all, with the element split
     double edge = 0.0;                          // edge length used for quads
+    double max_area = 0.0;                      // the area limit (0: none)
 };
 
 MeshPlan plan_mesh(const Scene& scene, const MeshingOptions& options) {
@@ -70,6 +72,10 @@ MeshPlan plan_mesh(const Scene& scene, const MeshingOptions& options) {
     if (!options.subdivide) h = 0.0;
     MeshPlan plan;
     plan.edge = h;
+    plan.max_area = options.subdivide ? max_area : 0.0;
+    if (options.subdivide && options.max_edge > 0)  // a triangle with edges below h has area below h^2 sqrt(3) / 4
+        plan.max_area = std::sqrt(3.0) / 4 * options.max_edge * options.max_edge;
+    if (options.subdivide && max_area > 0 && options.max_edge > 0) plan.max_area = std::min(plan.max_area, max_area);
 
     for (std::size_t si = 0; si < scene.surfaces.size(); ++si) {
         const auto& poly = scene.surfaces[si].vertices;
@@ -179,6 +185,120 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         cut_points.emplace_back(p, vertex(p));
         return cut_points.back().second;
     };
+    // Discontinuity meshing: the surfaces with traced shadow boundaries are triangulated with
+    // them as constraints (Lischinski, Tampieri and Greenberg 1992); their vertices are their own,
+    // like every surface's, so conformity is a property of each triangulation.
+    std::vector<bool> triangulated(scene.surfaces.size(), false);
+    if (options.kind == MeshingOptions::Kind::discontinuity) {
+        if (split != 1) throw InputError("meshing: discontinuity meshing does not combine with an element split");
+        const TracedDiscontinuities traced = trace_discontinuities(scene, options.max_discontinuities);
+        m_warnings = traced.warnings;
+        // A (nearly) coplanar neighbour sharing an edge with a triangulated surface (the red wall's
+        // two triangles, 0.2 degrees apart) is triangulated too, and each takes the other's points
+        // on the seam: no T-vertex where the two meet. (At creases, as in the uniform mesh, each
+        // surface keeps its own vertices.)
+        const std::size_t n = scene.surfaces.size();
+        auto emits = [&](std::size_t si) { return scene.materials[std::size_t(scene.surfaces[si].material)].emission.max() > 0; };
+        std::vector<std::vector<std::size_t>> neighbours(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto& a = scene.surfaces[i].vertices;
+            const V na = newell_normal(a);
+            if (!(glm::length(na) > 0) || emits(i)) continue;
+            const double tol = 1e-9 * std::sqrt(glm::length(na));
+            for (std::size_t j = i + 1; j < n; ++j) {
+                const auto& b = scene.surfaces[j].vertices;
+                const V nb = newell_normal(b);
+                if (!(glm::length(nb) > 0) || emits(j) ||
+                    glm::dot(na, nb) < std::cos(0.02) * glm::length(na) * glm::length(nb))  // about a degree
+                    continue;
+                bool shared = false;
+                for (std::size_t k = 0; k < a.size() && !shared; ++k)
+                    for (std::size_t l = 0; l < b.size() && !shared; ++l)
+                        shared = glm::length(a[k] - b[(l + 1) % b.size()]) <= tol &&
+                                 glm::length(a[(k + 1) % a.size()] - b[l]) <= tol;
+                if (shared) {
+                    neighbours[i].push_back(j);
+                    neighbours[j].push_back(i);
+                }
+            }
+        }
+        std::vector<bool> wanted(n, false);
+        std::vector<std::size_t> queue;
+        for (std::size_t si = 0; si < n; ++si)
+            if (!traced.per_surface[si].empty()) {
+                wanted[si] = true;
+                queue.push_back(si);
+            }
+        for (std::size_t k = 0; k < queue.size(); ++k)
+            for (const std::size_t j : neighbours[queue[k]])
+                if (!wanted[j]) {
+                    wanted[j] = true;
+                    queue.push_back(j);
+                }
+        std::vector<SurfaceTriangulation> first(n);
+        for (std::size_t si = 0; si < n; ++si)
+            if (wanted[si])
+                first[si] = triangulate_surface(scene, int(si), traced.per_surface[si], plan.max_area, options.aspect_bound);
+        // The seams: each surface again, with its neighbours' points on the shared edges that it
+        // lacks put in after refinement (mesh/discontinuity_mesh.h).
+        std::vector<SurfaceTriangulation> with_seams = first;
+        for (std::size_t si = 0; si < n; ++si) {
+            if (!wanted[si]) continue;
+            const auto& poly = scene.surfaces[si].vertices;
+            const double tol = 1e-9 * std::sqrt(polygon_area(poly));
+            std::vector<V> seam;
+            for (const std::size_t j : neighbours[si])
+                for (const V& p : first[j].points) {
+                    bool on = false;
+                    for (std::size_t k = 0; k < poly.size() && !on; ++k) {
+                        const V a = poly[k], d = poly[(k + 1) % poly.size()] - a;
+                        const double t = glm::dot(p - a, d) / glm::dot(d, d);
+                        on = t > 1e-9 && t < 1 - 1e-9 && glm::length(a + t * d - p) <= tol;
+                    }
+                    if (!on) continue;
+                    bool known = false;
+                    for (const V& q : first[si].points) known = known || glm::length(q - p) <= tol;
+                    if (!known) seam.push_back(p);
+                }
+            if (!seam.empty())
+                with_seams[si] = triangulate_surface(scene, int(si), traced.per_surface[si], plan.max_area,
+                                                     options.aspect_bound, seam);
+        }
+        first = std::move(with_seams);
+        // A surface whose refinement ran over its budget keeps its grid, and so do its seam
+        // neighbours (their seam points would be missing on its side).
+        std::vector<std::size_t> given_up;
+        for (std::size_t si = 0; si < n; ++si)
+            if (wanted[si] && first[si].over_budget) given_up.push_back(si);
+        for (std::size_t k = 0; k < given_up.size(); ++k)
+            for (const std::size_t j : neighbours[given_up[k]])
+                if (wanted[j] && !first[j].triangles.empty()) {
+                    first[j] = {};
+                    given_up.push_back(j);
+                }
+        if (!given_up.empty()) {
+            std::ostringstream msg;
+            msg << "discontinuity meshing: the shadow boundaries on "
+                << describe(scene.surfaces[given_up[0]].where, scene.surfaces[given_up[0]].object);
+            if (given_up.size() > 1)
+                msg << " and " << given_up.size() - 1 << " more surface" << (given_up.size() > 2 ? "s" : "");
+            msg << " leave slivers too thin to mesh within the area limit; meshed uniformly";
+            m_warnings.push_back(msg.str());
+        }
+        for (std::size_t si = 0; si < n; ++si) {
+            if (!wanted[si]) continue;
+            const SurfaceTriangulation& t = first[si];
+            if (t.triangles.empty()) continue;  // degenerate: the grid below meshes it
+            if (double(m_patches.size() + t.triangles.size()) > double(options.max_patches))
+                throw InputError("meshing would make more than the limit of " + std::to_string(options.max_patches) +
+                                 " patches (raise --max-area or --max-edge, or --max-memory)");
+            triangulated[si] = true;
+            std::vector<OpenPatchMesh::VertexHandle> h;
+            for (const V& p : t.points) h.push_back(vertex(p));
+            for (const auto& tri : t.triangles) emit_face(int(si), {h[tri[0]], h[tri[1]], h[tri[2]]});
+        }
+    }
+
     auto emit_patch = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
         if (!cut || covered[std::size_t(si)].empty()) return emit_face(si, vh);
         std::vector<V> poly;
@@ -216,6 +336,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     };
 
     for (const auto& [si, piece] : pieces) {
+        if (triangulated[std::size_t(si)]) continue;
         const auto& c = piece.corners;
         if (c.size() == 4) {
             // Bilinear grid: sub-quads of a planar quad are planar and tile it exactly.
@@ -273,8 +394,9 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
             parent = next;
         }
     }
-    // Cut patches were emitted in pieces (or not at all): with split 1 every face is its own parent.
-    if (cut)
+    // Cut patches were emitted in pieces (or not at all), triangulated surfaces in triangles: with
+    // split 1 every face is its own parent.
+    if (cut || options.kind == MeshingOptions::Kind::discontinuity)
         for (std::size_t i = 0; i < m_parent.size(); ++i) m_parent[i] = std::uint32_t(i);
 }
 

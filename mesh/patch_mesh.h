@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -23,6 +24,13 @@ struct MeshingOptions {
     int element_split = 1;          // cut every patch into split x split elements (see PatchMesh::parents)
     bool cut_contacts = true;       // leave out Scene::covered (clipping the patches that straddle it);
                                     // only with element_split 1, whose parents are then the identity
+    /// uniform: the grids above. discontinuity: surfaces that receive traced shadow boundaries
+    /// (mesh/discontinuity_mesh.h) are constrained Delaunay triangulations refined to the same
+    /// area limit and to aspect_bound instead; the others keep their grid. Only with element_split 1.
+    enum class Kind { uniform, discontinuity };
+    Kind kind = Kind::uniform;
+    std::size_t max_discontinuities = 400;  // traced boundaries kept per surface (the longest)
+    double aspect_bound = 0.125;            // CGAL's bound B on the squared sine of the smallest angle (20.7 degrees)
 };
 
 /// How many patches (elements, with element_split) PatchMesh(scene, options) would make,
@@ -66,11 +74,14 @@ public:
     double edge_length() const { return m_edge; }
     double total_area() const;
     Rgb emitted_power() const;  // sum of E_i A_i
+    /// Problems met while meshing, one line each, to show the user (the discontinuity cap).
+    const std::vector<std::string>& warnings() const { return m_warnings; }
 
 private:
     OpenPatchMesh m_mesh;
     std::vector<Patch> m_patches;
     std::vector<std::uint32_t> m_parent;
+    std::vector<std::string> m_warnings;
     double m_edge = 0.0;
 };
 

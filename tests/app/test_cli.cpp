@@ -427,9 +427,10 @@ TEST(Cli, CompareMeshesWritesRowsForEveryMethodAgainstOneReference) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string csv = slurp(dir / "meshes.csv");
     EXPECT_EQ(csv.rfind("method,setting,elements,links,seconds,rms_error,probe_rms_patch,", 0), 0u);
-    for (const char* method : {"\nreference,", "\nuniform,", "\npatches,", "\nadaptive,", "\nhierarchical,"})
+    for (const char* method :
+         {"\nreference,", "\nuniform,", "\npatches,", "\ndiscontinuity,", "\nadaptive,", "\nhierarchical,"})
         EXPECT_NE(csv.find(method), std::string::npos) << method;
-    EXPECT_EQ(lines(csv), 1 + 1 + 3 + 1 + 5 + 3);
+    EXPECT_EQ(lines(csv), 1 + 1 + 3 + 1 + 1 + 5 + 3);
     EXPECT_TRUE(std::filesystem::exists(dir / "meshes.png"));
     // Uniform refinement gets closer to the reference at every level.
     double last = 1e9;
@@ -442,6 +443,30 @@ TEST(Cli, CompareMeshesWritesRowsForEveryMethodAgainstOneReference) {
         EXPECT_LT(rms, last);
         last = rms;
     }
+}
+
+TEST(Cli, DiscontinuityMeshingSolvesAndABadChoiceIsOneLine) {
+    test::TempDir dir;
+    const auto u = bounce_run("solve --max-area 4000 --gather none -o " + (dir / "u.vtu").string());
+    const auto d =
+        bounce_run("solve --meshing discontinuity --max-area 4000 --gather none -o " + (dir / "d.vtu").string());
+    ASSERT_EQ(u.exit_code, 0) << u.err;
+    ASSERT_EQ(d.exit_code, 0) << d.err;
+    EXPECT_EQ(d.err, "");  // no cap reached on the box, nothing to warn about
+    auto patches = [](const std::string& out) { return std::stoi(out.substr(out.find("patches ") + 8)); };
+    // The surfaces under the blocks' shadows are triangulated along them: more, smaller patches.
+    EXPECT_GT(patches(d.out), patches(u.out));
+    const auto bad = bounce_run("solve --meshing adaptive -o " + (dir / "b.vtu").string());
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_EQ(lines(bad.err), 1) << bad.err;
+    EXPECT_NE(bad.err.find("--meshing"), std::string::npos) << bad.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "b.vtu"));
+    // A cap of one boundary per surface is reached and said once.
+    const auto capped = bounce_run("solve --meshing discontinuity --max-discontinuities 1 --max-area 4000 "
+                                   "--gather none -o " + (dir / "c.vtu").string());
+    ASSERT_EQ(capped.exit_code, 0) << capped.err;
+    EXPECT_EQ(lines(capped.err), 1) << capped.err;
+    EXPECT_NE(capped.err.find("warning: discontinuity meshing: kept the 1 longest"), std::string::npos) << capped.err;
 }
 
 TEST(Cli, FacesWoundTheWrongWayAreReportedAndFlipTurnsThemBack) {

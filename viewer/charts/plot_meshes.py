@@ -17,6 +17,7 @@ rows = list(csv.DictReader(open(os.path.join(folder, "meshes.csv"))))
 fig, (a, b) = plt.subplots(1, 2, figsize=(13, 5))
 cmap = plt.get_cmap("viridis")
 methods = [("patches", "o", "uniform patches (every patch shoots)"),
+           ("discontinuity", "v", "discontinuity meshes (every patch shoots)"),
            ("uniform", "s", "uniform elements (coarse patches shoot)"),
            ("adaptive", "D", "adaptive elements"),
            ("hierarchical", "^", "hierarchical")]
