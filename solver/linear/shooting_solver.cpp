@@ -244,6 +244,7 @@ SolveResult ShootingSolver::solve() {
             arrived += arriving;
         }
         res.escaped_power += shot * ai - arrived;
+        res.shot_power += shot * ai;
         ++res.steps;
         if (snapshots && res.steps % m_options.snapshot_every == 0) snapshot();
         if (m_options.progress) {

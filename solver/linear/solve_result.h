@@ -39,6 +39,7 @@ struct SolveResult {
     double residual = -1.0;  // last relative residual, when computed
     std::string status;      // "converged", "max iterations", "max seconds", "diverged"
     Rgb emitted_power, absorbed_power, escaped_power, unshot_power;
+    Rgb shot_power;  // shooting: all power shot; -escaped / shot is the mean row surplus of a closed scene
     std::vector<ConvergenceRecord> log;
     std::vector<Rgb> display;  // shooting: B plus the ambient term (Cohen et al. 1988), for display
     // Per mesh vertex, by final gather (solver/gather); empty: the exported point data is the

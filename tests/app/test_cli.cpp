@@ -583,3 +583,24 @@ TEST(Cli, TheFirstHourPapercuts) {
     EXPECT_NE(bmp.err.find("picture format, got '.bmp' (expected .png, .jpg or .jpeg)"), std::string::npos) << bmp.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "x.bmp"));
 }
+
+TEST(Cli, ShootingWarnsWhenTheRowsItShotSumAboveOne) {
+    // A closed furnace box (rho 0.9): the default rows sum to 1 within 1e-6, so no warning; a
+    // 16-pixel hemicube overshoots by about 2e-3 per row, and the solve says so, with the number.
+    test::TempDir dir;
+    const auto scene = dir / "furnace.json";
+    std::ofstream(scene) << R"({"name": "furnace", "materials": {"glow": {"reflectance": 0.9, "emission": 1}},
+        "objects": [{"type": "box", "material": "glow", "inward": true, "transform": {"scale": [2, 1.5, 1]}}]})";
+    const auto good = bounce_run("solve " + scene.string() + " --patches 216 -o " + (dir / "a.vtu").string());
+    ASSERT_EQ(good.exit_code, 0) << good.err;
+    EXPECT_EQ(good.err.find("warning"), std::string::npos) << good.err;
+    const auto bad = bounce_run("solve " + scene.string() + " --patches 216 --form-factors hemicube --hemicube-res 16 -o " +
+                                (dir / "b.vtu").string());
+    ASSERT_EQ(bad.exit_code, 0) << bad.err;
+    const auto at = bad.err.find("warning: the form-factor rows of the shots sum to 1 + ");
+    ASSERT_NE(at, std::string::npos) << bad.err;
+    const double surplus = std::stod(bad.err.substr(at + std::string("warning: the form-factor rows of the shots sum to 1 + ").size()));
+    EXPECT_GT(surplus, 1e-3);
+    EXPECT_LT(surplus, 1e-2);
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1);
+}
