@@ -197,6 +197,9 @@ void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
     cmd->add_option("--hemicube-res", f.hemicube_resolution, "hemicube pixels per side, even (256)")
         ->check(in_range(2, 4096));
     cmd->add_flag("--hemicube-jitter", f.hemicube_jitter, "rotate each hemicube randomly about the normal (off)");
+    cmd->add_flag("--hemicube-baum", f.hemicube_exact_kernel,
+                  "hemicube pixels give only the share of each patch seen, the unoccluded factor the amount "
+                  "(Baum et al. 1989; off)");
     cmd->add_option("--seed", f.seed, "seed of the rays and rotations (1)");
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <span>
@@ -34,6 +35,14 @@ struct Patch {
 
 /// True when no vertex of `q` is strictly in front of `p`: p cannot send power to q (and, by
 /// reciprocity, q none to p). The tolerance absorbs rounding of coplanar neighbours.
+/// Largest distance of a vertex from the patch's centre: a sphere about the centre with this
+/// radius holds the patch (separation tests of form-factor rules).
+inline double circumradius(const Patch& p) {
+    double r = 0.0;
+    for (int k = 0; k < p.vertex_count; ++k) r = std::max(r, glm::length(p.vertices[k] - p.centre));
+    return r;
+}
+
 inline bool wholly_behind(const Patch& p, const Patch& q) {
     const double tol = 1e-12 * std::sqrt(p.area + q.area);
     for (int k = 0; k < q.vertex_count; ++k)

@@ -23,6 +23,7 @@ struct FormFactorOptions {
     std::uint64_t seed = 1;              // rays depend only on (seed, i, j): thread-count independent
     int hemicube_resolution = 256;       // pixels per side of the hemicube's top face (even)
     bool hemicube_jitter = false;        // rotate each hemicube randomly about the normal (seeded)
+    bool hemicube_exact_kernel = false;  // hemicube: pixels give the seen share, not F (Baum et al.)
     double exact_tolerance = 1e-8;       // exact method: relative error of unoccluded pairs
     double visibility_tolerance = 1e-5;  // exact method: partial pairs stop when two orders agree
                                          // within this fraction of the unoccluded factor

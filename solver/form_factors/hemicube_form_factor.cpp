@@ -28,6 +28,7 @@ struct CubeFace {
 
 HemicubeFormFactor::HemicubeFormFactor(const std::vector<Patch>& patches, const FormFactorOptions& options)
     : m_patches(patches), m_options(options) {
+    if (options.hemicube_exact_kernel) m_unoccluded.emplace(patches, options.unoccluded_tolerance);
     const int r = options.hemicube_resolution;
     if (r < 2 || r > 4096 || r % 2) throw std::invalid_argument("hemicube resolution must be even, 2..4096");
     const double h = 2.0 / r, da = h * h, pi = std::numbers::pi;
@@ -70,6 +71,8 @@ void HemicubeFormFactor::compute_row(std::size_t i, std::span<float> row) const 
     thread_local std::vector<double> depth;
     thread_local std::vector<int> item;
     std::vector<double> f(m_patches.size(), 0.0);
+    std::vector<double> covered(m_unoccluded ? m_patches.size() : 0, 0.0);  // pixels of j, hidden or not
+    const bool strict = m_unoccluded.has_value();
     for (int fi = 0; fi < 5; ++fi) {
         const CubeFace& face = faces[fi];
         const int rows = fi == 0 ? r : r / 2;
@@ -127,6 +130,7 @@ void HemicubeFormFactor::compute_row(std::size_t i, std::span<float> row) const 
             const double num = glm::dot(nj, cam[0]);
             // A patch seen from behind still occludes, but receives nothing (one-sided).
             const int id = num < 0 ? int(j) : -2;
+            const std::vector<double>& delta = fi == 0 ? m_top_delta : m_side_delta;
             for (int by = by0; by <= by1; ++by) {
                 const double y = face.ylo + (by + 0.5) * h;
                 for (int ax = ax0; ax <= ax1; ++ax) {
@@ -134,12 +138,16 @@ void HemicubeFormFactor::compute_row(std::size_t i, std::span<float> row) const 
                     bool inside = true;
                     for (int k = 0; k < m && inside; ++k) {
                         const int l = (k + 1) % m;
-                        inside = orient * ((X[l] - X[k]) * (y - Y[k]) - (Y[l] - Y[k]) * (x - X[k])) >= 0;
+                        const double side = orient * ((X[l] - X[k]) * (y - Y[k]) - (Y[l] - Y[k]) * (x - X[k]));
+                        // With the seen share, a pixel centre on an edge two patches share must
+                        // belong to neither, or one of them would seem partly hidden.
+                        inside = strict ? side > 0 : side >= 0;
                     }
                     if (!inside) continue;
                     const double den = nj.x * x + nj.y * y + nj.z;
                     const double dist = den != 0 ? num / den : 0.0;
                     const std::size_t px = std::size_t(by) * r + ax;
+                    if (dist > 0 && id >= 0 && !covered.empty()) covered[j] += delta[px];
                     if (dist > 0 && dist < depth[px]) {
                         depth[px] = dist;
                         item[px] = id;
@@ -150,6 +158,17 @@ void HemicubeFormFactor::compute_row(std::size_t i, std::span<float> row) const 
         const std::vector<double>& delta = fi == 0 ? m_top_delta : m_side_delta;
         for (std::size_t px = 0; px < item.size(); ++px)
             if (item[px] >= 0) f[item[px]] += delta[px];
+    }
+    if (m_unoccluded) {
+        // Baum, Rushmeier and Winget (1989): the pixels only decide how much of j the centre
+        // sees, the visible share of j's own pixels (both sums alias alike, so an unhidden patch
+        // has exactly 1); the unoccluded factor over both patches decides the amount. A patch
+        // no pixel centre falls on is taken as seen: the pixels cannot tell.
+        for (std::size_t j = 0; j < row.size(); ++j) {
+            if (j == i) continue;
+            const double seen = covered[j] > 0.0 ? f[j] / covered[j] : 1.0;
+            f[j] = seen > 0.0 ? (*m_unoccluded)(i, j) * seen : 0.0;
+        }
     }
     for (std::size_t j = 0; j < row.size(); ++j) row[j] = float(f[j]);
 }

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "solver/form_factors/form_factor_estimator.h"
+#include "solver/form_factors/unoccluded_form_factor.h"
 
 namespace bounce {
 
@@ -16,6 +18,11 @@ namespace bounce {
 /// the pixels that see j. A point method at the shooter's centre: it fails for patches
 /// closer than their own size, and aliases with regular pixels (optionally rotate the cube
 /// about the normal by a random angle per row, seeded, to break the aliasing).
+/// With `hemicube_exact_kernel` (`--hemicube-baum`) the pixels only say what fraction of j the centre
+/// sees, and the unoccluded factor over both patches says how much (Baum, Rushmeier and Winget
+/// 1989, "Improving radiosity solutions through the use of analytically determined
+/// form-factors"): F_ij = F_unoccluded,ij (delta sum of j's visible pixels / of all pixels j
+/// covers, hidden or not); a patch that covers no pixel centre counts as seen.
 class HemicubeFormFactor final : public FormFactorEstimator {
 public:
     HemicubeFormFactor(const std::vector<Patch>& patches, const FormFactorOptions& options);
@@ -25,8 +32,9 @@ public:
 private:
     const std::vector<Patch>& m_patches;
     FormFactorOptions m_options;
-    std::vector<double> m_top_delta, m_side_delta;  // delta form factors per pixel
-    double m_eps = 0.0;                             // eye lift off the shooter's plane
+    std::optional<UnoccludedFormFactor> m_unoccluded;  // hemicube_exact_kernel: Baum et al. 1989
+    std::vector<double> m_top_delta, m_side_delta;     // delta form factors per pixel
+    double m_eps = 0.0;                                // eye lift off the shooter's plane
 };
 
 }  // namespace bounce

@@ -14,7 +14,6 @@
 #include "solver/form_factors/hemicube_form_factor.h"
 #include "solver/form_factors/patch_sampling.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
-#include "solver/form_factors/polygon_form_factor.h"
 #include "solver/visibility/visibility.h"
 
 namespace bounce {
@@ -34,15 +33,10 @@ std::pair<int, int> strata(int m) {
 
 RaycastFormFactor::RaycastFormFactor(const std::vector<Patch>& patches, const Visibility* visibility,
                                      const FormFactorOptions& options)
-    : m_patches(patches), m_visibility(visibility), m_options(options) {
-    // Gauss points of orders 1..kCachedOrders per patch, end to end: far pairs need only these.
-    m_points.reserve(patches.size() * kCachedPoints);
-    thread_local std::vector<AreaSample> q;
-    for (const Patch& p : patches)
-        for (int n = 1; n <= kCachedOrders; ++n) {
-            patch_quadrature(p, n, q);
-            m_points.insert(m_points.end(), q.begin(), q.end());
-        }
+    : m_patches(patches),
+      m_visibility(visibility),
+      m_options(options),
+      m_unoccluded(patches, options.unoccluded_tolerance) {
     if (options.visibility_rays < 1) throw std::invalid_argument("visibility rays must be at least 1");
     if (!(options.unoccluded_tolerance > 0) || options.receiver_samples < 0)
         throw std::invalid_argument("form-factor tolerance and receiver samples must be positive");
@@ -113,7 +107,7 @@ double RaycastFormFactor::directed(std::size_t i, std::size_t j) const {
     const Patch& r = m_patches[j];
     if (wholly_behind(s, r) || wholly_behind(r, s)) return 0.0;
     if (m_options.receiver_samples == 0) {
-        const double f_rs = unoccluded(j, i);
+        const double f_rs = m_unoccluded(j, i);
         if (f_rs <= 0.0) return 0.0;
         return f_rs * visible_fraction(i, j) * r.area / s.area;
     }
@@ -152,49 +146,6 @@ double RaycastFormFactor::directed(std::size_t i, std::size_t j) const {
     }
     if (fji <= 0.0) return 0.0;
     return fji * visible_fraction(i, j) * r.area / s.area;
-}
-
-std::span<const AreaSample> RaycastFormFactor::gauss_points(std::size_t patch, int n,
-                                                            std::vector<AreaSample>& scratch) const {
-    // Patches added after construction (refinement appends elements) are not cached.
-    if (patch >= m_points.size() / kCachedPoints) {
-        patch_quadrature(m_patches[patch], n, scratch);
-        return scratch;
-    }
-    const std::size_t first = patch * kCachedPoints + std::size_t((n - 1) * n * (2 * n - 1) / 6);  // sum k^2, k < n
-    return {m_points.data() + first, std::size_t(n * n)};
-}
-
-namespace {
-double circumradius(const Patch& p) {
-    double r = 0.0;
-    for (int k = 0; k < p.vertex_count; ++k) r = std::max(r, glm::length(p.vertices[k] - p.centre));
-    return r;
-}
-}  // namespace
-
-double RaycastFormFactor::unoccluded(std::size_t from, std::size_t to) const {
-    const Patch& a = m_patches[from];
-    const Patch& b = m_patches[to];
-    const double tol = m_options.unoccluded_tolerance;
-    // Only whole pairs in front of each other suit the product rule; one that straddles the
-    // other's plane is clipped first (polygon_form_factor does that).
-    const auto in_front = [](const Patch& p, const Patch& q) {
-        const double below = -1e-9 * std::sqrt(q.area);
-        for (int k = 0; k < q.vertex_count; ++k)
-            if (p.height(q.vertices[k]) < below) return false;
-        return true;
-    };
-    const double ra = circumradius(a), rb = circumradius(b);
-    const double gap = glm::length(b.centre - a.centre) - ra - rb;
-    const int na = separated_gauss_order(gap, ra, tol);
-    const int nb = separated_gauss_order(gap, rb, tol);
-    // Near pairs (high predicted orders) cost less by the point-to-polygon kernel or, when
-    // touching, the contour integral; both are in polygon_form_factor.
-    if (na == 0 || nb == 0 || na > kCachedOrders || nb > kCachedOrders || !in_front(a, b) || !in_front(b, a))
-        return polygon_form_factor(a.polygon(), a.normal, b.polygon(), b.normal, tol);
-    thread_local std::vector<AreaSample> qa, qb;
-    return separated_form_factor(gauss_points(from, na, qa), a.normal, gauss_points(to, nb, qb), b.area, b.normal);
 }
 
 void RaycastFormFactor::compute_row(std::size_t i, std::span<float> row) const {

@@ -4,7 +4,7 @@
 #include <span>
 #include <vector>
 
-#include "solver/form_factors/patch_sampling.h"
+#include "solver/form_factors/unoccluded_form_factor.h"
 
 #include "solver/form_factors/form_factor_estimator.h"
 
@@ -47,23 +47,10 @@ private:
     /// F_ij: with receiver_samples 0, the unoccluded factor to unoccluded_tolerance times the
     /// visible fraction; otherwise n x n receiver points on j (the exact kernel covers i).
     double directed(std::size_t i, std::size_t j) const;
-    /// The unoccluded F from patch `from` to patch `to`, to unoccluded_tolerance: the product
-    /// Gauss rule at the orders separated_gauss_order predicts when the pair is well separated
-    /// (no trigonometry), else polygon_form_factor. The one-point rule it replaces errs with one
-    /// sign on every far pair: rows of a closed box summed to 1.001-1.003.
-    double unoccluded(std::size_t from, std::size_t to) const;
-    /// Gauss points of order n <= kCachedOrders (weights: fractions of the area) on a patch:
-    /// from the cache, or computed into `scratch` for patches added after construction.
-    std::span<const AreaSample> gauss_points(std::size_t patch, int n, std::vector<AreaSample>& scratch) const;
-    /// Orders above this go to polygon_form_factor: near pairs, where the point-to-polygon
-    /// kernel needs fewer points than the product rule (n^2 against n^4).
-    static constexpr int kCachedOrders = 4;
-    static constexpr std::size_t kCachedPoints = 1 + 4 + 9 + 16;
-
     const std::vector<Patch>& m_patches;
     const Visibility* m_visibility;
     FormFactorOptions m_options;
-    std::vector<AreaSample> m_points;  // kCachedPoints per patch: orders 1, 2, .. kCachedOrders
+    UnoccludedFormFactor m_unoccluded;
 };
 
 /// Rows from patches to elements, for shooting with an ElementHierarchy: row i holds

@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: MIT
+#include "solver/form_factors/unoccluded_form_factor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+#include "solver/form_factors/polygon_form_factor.h"
+
+namespace bounce {
+
+UnoccludedFormFactor::UnoccludedFormFactor(const std::vector<Patch>& patches, double tolerance)
+    : m_patches(patches), m_tolerance(tolerance) {
+    if (!(tolerance > 0)) throw std::invalid_argument("form-factor tolerance must be positive");
+    // Gauss points of orders 1..kCachedOrders per patch, end to end: far pairs need only these.
+    m_points.reserve(patches.size() * kCachedPoints);
+    thread_local std::vector<AreaSample> q;
+    for (const Patch& p : patches)
+        for (int n = 1; n <= kCachedOrders; ++n) {
+            patch_quadrature(p, n, q);
+            m_points.insert(m_points.end(), q.begin(), q.end());
+        }
+}
+
+std::span<const AreaSample> UnoccludedFormFactor::gauss_points(std::size_t patch, int n,
+                                                               std::vector<AreaSample>& scratch) const {
+    // Patches added after construction (refinement appends elements) are not cached.
+    if (patch >= m_points.size() / kCachedPoints) {
+        patch_quadrature(m_patches[patch], n, scratch);
+        return scratch;
+    }
+    const std::size_t first = patch * kCachedPoints + std::size_t((n - 1) * n * (2 * n - 1) / 6);  // sum k^2, k < n
+    return {m_points.data() + first, std::size_t(n * n)};
+}
+
+double UnoccludedFormFactor::operator()(std::size_t from, std::size_t to) const {
+    const Patch& a = m_patches[from];
+    const Patch& b = m_patches[to];
+    const double tol = m_tolerance;
+    // Only whole pairs in front of each other suit the product rule; one that straddles the
+    // other's plane is clipped first (polygon_form_factor does that).
+    const auto in_front = [](const Patch& p, const Patch& q) {
+        const double below = -1e-9 * std::sqrt(q.area);
+        for (int k = 0; k < q.vertex_count; ++k)
+            if (p.height(q.vertices[k]) < below) return false;
+        return true;
+    };
+    const double ra = circumradius(a), rb = circumradius(b);
+    const double gap = glm::length(b.centre - a.centre) - ra - rb;
+    const int na = separated_gauss_order(gap, ra, tol);
+    const int nb = separated_gauss_order(gap, rb, tol);
+    // Near pairs (high predicted orders) cost less by the point-to-polygon kernel or, when
+    // touching, the contour integral; both are in polygon_form_factor.
+    if (na == 0 || nb == 0 || na > kCachedOrders || nb > kCachedOrders || !in_front(a, b) || !in_front(b, a))
+        return polygon_form_factor(a.polygon(), a.normal, b.polygon(), b.normal, tol);
+    thread_local std::vector<AreaSample> qa, qb;
+    return separated_form_factor(gauss_points(from, na, qa), a.normal, gauss_points(to, nb, qb), b.area, b.normal);
+}
+
+}  // namespace bounce
