@@ -1,0 +1,65 @@
+# SPDX-License-Identifier: MIT
+# Ctrl-C during a long solve: KeyboardInterrupt within a second of the signal, and the call
+# returns nothing. The solve runs with the GIL released; the binding polls for signals.
+import _thread
+import os
+import signal
+import threading
+import time
+
+import pytest
+
+import bounce
+
+
+@pytest.fixture(scope="module")
+def big_scene():
+    return bounce.load("cornell", patches=4000)
+
+
+def interrupt_later(how, delay, sent):
+    def fire():
+        time.sleep(delay)
+        sent.append(time.monotonic())
+        if how == "interrupt_main":
+            _thread.interrupt_main()
+        else:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    t = threading.Thread(target=fire, daemon=True)
+    t.start()
+    return t
+
+
+@pytest.mark.parametrize("how", ["interrupt_main", "SIGINT"])
+def test_keyboard_interrupt_stops_a_long_solve(big_scene, how):
+    sent = []
+    calls = []
+    start = time.monotonic()
+    thread = interrupt_later(how, 0.3, sent)
+    with pytest.raises(KeyboardInterrupt):
+        # To 1e-9 unshot at 4000 patches takes far longer than the test allows.
+        bounce.solve(big_scene, tolerance=1e-9, gather="none", progress=calls.append)
+    stopped = time.monotonic()
+    thread.join()
+    assert sent, "the solve ended before the interrupt was sent"
+    assert stopped - sent[0] < 1.0, f"stopped {stopped - sent[0]:.2f} s after the signal"
+    assert stopped - start >= 0.3
+    # The solve was running, and said so, until the signal.
+    assert calls and calls[-1].stage == "solve" and calls[-1].step > 0
+
+
+def test_exception_in_progress_callback_stops_the_solve(big_scene):
+    class Enough(Exception):
+        pass
+
+    seen = []
+
+    def progress(p):
+        seen.append(p.step)
+        if p.step >= 200:
+            raise Enough
+
+    with pytest.raises(Enough):
+        bounce.solve(big_scene, tolerance=1e-9, gather="none", progress=progress)
+    assert seen[-1] >= 200
