@@ -6,12 +6,15 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -36,6 +39,7 @@
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/gather/point_values.h"
 #include "solver/linear/solver.h"
+#include "solver/reference/path_tracer.h"
 #include "solver/visibility/visibility.h"
 #include "viewer/pending_output.h"
 #include "viewer/renderer.h"
@@ -350,16 +354,19 @@ struct SolutionData {
     SolveResult result;
     std::string settings;
     bool gathered = false;
+    double form_factor_seconds = 0.0;  // building the matrix (gathering solvers, or residuals=True)
     std::vector<Rgb> averaged_points;  // the point data when not gathered, as the .vtu has it
 
     ExportInfo info(bool meshio) const { return ExportInfo{scene->spec, settings, meshio}; }
 };
 
-std::shared_ptr<SolutionData> solve(const std::shared_ptr<SceneData>& s, const std::string& solver_name,
-                                    double tolerance, std::int64_t max_iterations, double max_seconds, double sor,
-                                    bool overshoot, std::size_t cache_mb, const std::string& method, int rays,
-                                    int receiver_samples, int hemicube_res, bool hemicube_jitter, std::uint64_t seed,
-                                    std::size_t max_matrix_mb, const std::string& gather, const py::object& progress) {
+std::shared_ptr<SolutionData> solve(
+    const std::shared_ptr<SceneData>& s, const std::string& solver_name, double tolerance, std::int64_t max_iterations,
+    double max_seconds, double sor, bool overshoot, std::size_t cache_mb, const std::string& method, int rays,
+    int receiver_samples, int hemicube_res, bool hemicube_jitter, std::uint64_t seed, std::size_t max_matrix_mb,
+    const std::string& gather, bool residuals,
+    const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& reference,
+    const py::object& progress) {
     check_member("solver", solver_name, solver_names());
     const FormFactorOptions f =
         form_factor_options(method, rays, receiver_samples, hemicube_res, hemicube_jitter, seed);
@@ -368,6 +375,14 @@ std::shared_ptr<SolutionData> solve(const std::shared_ptr<SceneData>& s, const s
     check_range("sor", sor, 0.0, 2.0);
     if (max_seconds < 0) check_positive("max_seconds", max_seconds);
     check_member("gather", gather, gather_modes());
+    std::vector<Rgb> reference_values;
+    if (reference) {
+        const auto& r = *reference;
+        if (r.ndim() != 2 || std::size_t(r.shape(0)) != s->mesh->size() || r.shape(1) != 3)
+            throw InputError("reference: must be " + std::to_string(s->mesh->size()) +
+                             " x 3 (B per patch and channel)");
+        for (py::ssize_t i = 0; i < r.shape(0); ++i) reference_values.emplace_back(r.at(i, 0), r.at(i, 1), r.at(i, 2));
+    }
 
     auto out = std::make_shared<SolutionData>();
     out->scene = s;
@@ -379,7 +394,7 @@ std::shared_ptr<SolutionData> solve(const std::shared_ptr<SceneData>& s, const s
             const auto visibility = make_visibility(s->visibility, P);
             const auto ff = make_form_factor_estimator(method, P, visibility.get(), f);
             std::optional<FormFactorMatrix> matrix;
-            if (solver_name != "shooting")
+            if (solver_name != "shooting" || residuals)
                 matrix = FormFactorMatrix::build(
                     *ff, P.size(), max_matrix_mb << 20,
                     [&](std::size_t d, std::size_t t) { job.report_items("form factors", d, t); }, &job.cancel);
@@ -392,6 +407,7 @@ std::shared_ptr<SolutionData> solve(const std::shared_ptr<SceneData>& s, const s
             so.cache_mb = cache_mb;
             so.max_matrix_mb = max_matrix_mb;
             so.cancel = &job.cancel;
+            if (reference) so.reference = &reference_values;
             so.progress = [&](const SolveProgress& p) {
                 job.report({"solve", p.step, p.max_steps, p.unshot_fraction, p.tolerance, p.seconds});
             };
@@ -399,7 +415,8 @@ std::shared_ptr<SolutionData> solve(const std::shared_ptr<SceneData>& s, const s
             SolveResult res = solver->solve();
             if (job.cancel) return;
             res.form_factors = method;
-            if (matrix) res.seconds += matrix->seconds();
+            if (matrix && solver_name != "shooting") res.seconds += matrix->seconds();
+            if (matrix) out->form_factor_seconds = matrix->seconds();
             out->gathered = gather_point_values(mesh, *visibility, res, gather, &job.cancel,
                                                 [&](const char* stage, std::size_t d, std::size_t t) {
                                                     job.report_items(stage, d, t);
@@ -429,6 +446,8 @@ py::dict history(const py::object& self) {
     d["seconds"] = field_view<double>(n ? &r->seconds : nullptr, n, stride, 0, self);
     d["residual"] = field_view<double>(n ? &r->residual : nullptr, n, stride, 0, self);
     d["unshot_fraction"] = field_view<double>(n ? &r->unshot_fraction : nullptr, n, stride, 0, self);
+    d["rms_error"] = field_view<double>(n ? &r->rms_error : nullptr, n, stride, 0, self);
+    d["max_error"] = field_view<double>(n ? &r->max_error : nullptr, n, stride, 0, self);
     return d;
 }
 
@@ -455,6 +474,102 @@ void render_file(const SolutionData& s, const std::filesystem::path& path, const
     r.edges = edges;
     py::gil_scoped_release release;
     render_solution(*s.scene->mesh, s.result, s.info(false), path, r);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The path-traced reference
+
+struct ReferenceRun {
+    std::vector<SurfacePoint> points;
+    std::vector<std::uint8_t> found;  // 0: no surface near the given point (skip_missing)
+    std::vector<RadiosityEstimate> estimates;
+};
+
+using Points = std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>;
+
+py::dict reference(const std::shared_ptr<SceneData>& s, const Points& points, const Points& normals,
+                   std::int64_t probes, double target_error, double max_paths, std::uint64_t seed, bool skip_missing,
+                   const py::object& progress) {
+    if (points.has_value() == (probes > 0))
+        throw InputError("reference: give exactly one of points (with normals) or probes");
+    check_range("target_error", target_error, 1e-6, 1.0);
+    check_range("max_paths", max_paths, 64, double(std::uint64_t(1) << 40));
+    std::vector<glm::dvec3> given_p, given_n;
+    if (points) {
+        if (!normals) throw InputError("reference: points need normals (the side of the surface they look from)");
+        const auto& P = *points;
+        const auto& N = *normals;
+        if (P.ndim() != 2 || P.shape(1) != 3 || N.ndim() != 2 || N.shape(1) != 3 || N.shape(0) != P.shape(0))
+            throw InputError("reference: points and normals must both be M x 3");
+        for (py::ssize_t k = 0; k < P.shape(0); ++k) {
+            given_p.emplace_back(P.at(k, 0), P.at(k, 1), P.at(k, 2));
+            given_n.emplace_back(N.at(k, 0), N.at(k, 1), N.at(k, 2));
+        }
+    }
+    ReferenceOptions options;
+    options.target_error = target_error;
+    options.max_paths = std::uint64_t(max_paths);
+    options.seed = seed;
+    auto run = std::make_unique<ReferenceRun>();
+    Job job;
+    job.run(
+        [&] {
+            const PathTracer tracer(s->scene);
+            if (points) {
+                for (std::size_t k = 0; k < given_p.size(); ++k) {
+                    const auto x = tracer.locate(given_p[k], given_n[k]);
+                    if (!x && !skip_missing) {
+                        char msg[320];
+                        std::snprintf(msg, sizeof msg,
+                                      "points[%zu]: no surface facing the normal within %.4g (0.5%% of the scene's "
+                                      "diagonal) of the point (%.6g, %.6g, %.6g); skip_missing=True leaves such "
+                                      "rows empty",
+                                      k, tracer.snap_distance(), given_p[k].x, given_p[k].y, given_p[k].z);
+                        throw InputError(msg);
+                    }
+                    run->found.push_back(x ? 1 : 0);
+                    run->points.push_back(x ? *x : SurfacePoint{given_p[k], given_n[k], -1});
+                }
+            } else {
+                run->points = tracer.probes(std::size_t(probes), seed);
+                if (run->points.empty())
+                    throw InputError(s->spec + ": no surface to place probes on (every surface emits)");
+                run->found.assign(run->points.size(), 1);
+            }
+            // Missing points are not traced. Each point draws from the stream of its index
+            // among the traced ones, as `bounce reference --skip-missing` numbers them.
+            std::vector<SurfacePoint> traced;
+            for (std::size_t k = 0; k < run->points.size(); ++k)
+                if (run->found[k]) traced.push_back(run->points[k]);
+            const auto estimates = tracer.estimate_all(
+                traced, options, [&](std::size_t d, std::size_t t) { job.report_items("path tracing: points", d, t); },
+                &job.cancel);
+            RadiosityEstimate missing;
+            const double nan = std::numeric_limits<double>::quiet_NaN();
+            missing.radiosity = missing.standard_error = Rgb(nan, nan, nan);
+            for (std::size_t k = 0, t = 0; k < run->points.size(); ++k)
+                run->estimates.push_back(run->found[k] ? estimates[t++] : missing);
+        },
+        progress);
+    const std::size_t m = run->points.size();
+    std::vector<std::string> status;
+    for (std::size_t k = 0; k < m; ++k)
+        status.push_back(run->found[k] ? to_string(run->estimates[k].status) : std::string("missing"));
+    const ReferenceRun* r = run.get();
+    py::capsule owner(run.release(), [](void* p) { delete static_cast<ReferenceRun*>(p); });
+    const auto* e = m ? r->estimates.data() : nullptr;
+    const auto* x = m ? r->points.data() : nullptr;
+    py::dict d;
+    d["position"] = field_view<double>(x ? &x->position.x : nullptr, m, sizeof(SurfacePoint), 3, owner);
+    d["normal"] = field_view<double>(x ? &x->normal.x : nullptr, m, sizeof(SurfacePoint), 3, owner);
+    d["surface"] = field_view<std::int32_t>(x ? &x->surface : nullptr, m, sizeof(SurfacePoint), 0, owner);
+    d["radiosity"] = field_view<double>(e ? &e->radiosity.r : nullptr, m, sizeof(RadiosityEstimate), 3, owner);
+    d["standard_error"] =
+        field_view<double>(e ? &e->standard_error.r : nullptr, m, sizeof(RadiosityEstimate), 3, owner);
+    static_assert(sizeof(std::uint64_t) == sizeof(e->paths));
+    d["paths"] = field_view<std::uint64_t>(e ? &e->paths : nullptr, m, sizeof(RadiosityEstimate), 0, owner);
+    d["status"] = status;
+    return d;
 }
 
 }  // namespace
@@ -671,6 +786,9 @@ PYBIND11_MODULE(_bounce, m) {
         .def_property_readonly("escaped_power", [](const SolutionData& s) { return rgb_copy(s.result.escaped_power); })
         .def_property_readonly("unshot_power", [](const SolutionData& s) { return rgb_copy(s.result.unshot_power); })
         .def_readonly("settings", &SolutionData::settings)
+        .def_readonly("form_factor_seconds", &SolutionData::form_factor_seconds,
+                      "time to build the form-factor matrix (0 when shooting computes rows as it goes); "
+                      "`seconds` includes it for the gathering solvers")
         .def_property_readonly("history", &history,
                                "the convergence log: dict of step, seconds, residual (-1: not computed) and "
                                "unshot_fraction arrays, one entry per logged shot or sweep")
@@ -702,7 +820,12 @@ PYBIND11_MODULE(_bounce, m) {
           py::arg("overshoot") = false, py::arg("cache_mb") = 1024, py::arg("form_factors") = "raycast",
           py::arg("rays") = 4, py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256,
           py::arg("hemicube_jitter") = false, py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048,
-          py::arg("gather") = "vertices", py::arg("progress") = py::none());
+          py::arg("gather") = "vertices", py::arg("residuals") = false, py::arg("reference") = py::none(),
+          py::arg("progress") = py::none());
+    m.def("reference", &reference, py::arg("scene"), py::arg("points") = py::none(), py::arg("normals") = py::none(),
+          py::kw_only(), py::arg("probes") = 0, py::arg("target_error") = 0.005,
+          py::arg("max_paths") = double(std::uint64_t(1) << 20), py::arg("seed") = 1, py::arg("skip_missing") = false,
+          py::arg("progress") = py::none());
     m.def("solver_names", &solver_names);
     m.def("form_factor_methods", &form_factor_methods);
     m.def("gather_modes", &gather_modes);

@@ -9,6 +9,7 @@ A thin layer over the library the ``bounce`` command line uses (the extension ``
     sol = bounce.solve(scene, solver="shooting", tolerance=1e-3, progress=print)
     sol.radiosity                                       # N x 3, W/m^2 per channel (a view)
     sol.write_vtu("cornell.vtu"); sol.render("cornell.png")
+    ref = bounce.reference(scene, probes=64)            # path-traced B at 64 points, with errors
 
 Long calls release the GIL and stop on Ctrl-C (KeyboardInterrupt; nothing is returned or
 written). Bad input raises ValueError, a missing file FileNotFoundError, each with the command
@@ -27,6 +28,7 @@ from ._bounce import (  # noqa: F401
     form_factor_methods,
     form_factors,
     gather_modes,
+    reference,
     solve,
     solver_names,
     visibility_backends,
@@ -35,7 +37,7 @@ from ._bounce import load as _load
 
 __all__ = [
     "Patches", "Progress", "Scene", "Solution", "check_form_factors", "form_factor_methods",
-    "form_factors", "gather_modes", "load", "solve", "solver_names", "visibility_backends",
+    "form_factors", "gather_modes", "load", "reference", "solve", "solver_names", "visibility_backends",
 ]
 
 
