@@ -415,7 +415,7 @@ std::shared_ptr<SolutionData> solve(
             SolveResult res = solver->solve();
             if (job.cancel) return;
             res.form_factors = method;
-            if (matrix && solver_name != "shooting") res.seconds += matrix->seconds();
+            if (matrix) res.seconds += matrix->seconds();
             if (matrix) out->form_factor_seconds = matrix->seconds();
             out->gathered = gather_point_values(mesh, *visibility, res, gather, &job.cancel,
                                                 [&](const char* stage, std::size_t d, std::size_t t) {
@@ -786,9 +786,10 @@ PYBIND11_MODULE(_bounce, m) {
         .def_property_readonly("escaped_power", [](const SolutionData& s) { return rgb_copy(s.result.escaped_power); })
         .def_property_readonly("unshot_power", [](const SolutionData& s) { return rgb_copy(s.result.unshot_power); })
         .def_readonly("settings", &SolutionData::settings)
-        .def_readonly("form_factor_seconds", &SolutionData::form_factor_seconds,
-                      "time to build the form-factor matrix (0 when shooting computes rows as it goes); "
-                      "`seconds` includes it for the gathering solvers")
+        .def_readonly(
+            "form_factor_seconds", &SolutionData::form_factor_seconds,
+            "time to build the form-factor matrix, which `seconds` includes (0 when shooting computes rows as "
+            "it shoots; with residuals=True shooting reads the matrix's columns instead)")
         .def_property_readonly("history", &history,
                                "the convergence log: dict of step, seconds, residual (-1: not computed) and "
                                "unshot_fraction arrays, one entry per logged shot or sweep")

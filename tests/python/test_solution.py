@@ -76,6 +76,19 @@ def test_solution_is_consistent(scene):
     assert len(h["step"]) > 0 and np.all(np.diff(h["step"].astype(np.int64)) > 0)
     assert h["unshot_fraction"][-1] == pytest.approx(sol.unshot_fraction)
     assert sol.unshot_fraction < 1e-4
+    assert sol.form_factor_seconds == 0 and np.all(h["residual"] == -1)
+
+
+def test_residuals_and_reference_columns(scene):
+    # With the matrix built, shooting logs the relative residual; against a reference solution
+    # it logs the error, which must end at the distance to that reference.
+    ref = bounce.solve(scene, solver="gauss-seidel", tolerance=1e-9, gather="none")
+    sol = bounce.solve(scene, tolerance=1e-3, gather="none", residuals=True, reference=ref.radiosity)
+    h = sol.history
+    assert sol.form_factor_seconds > 0
+    assert np.all(h["residual"] >= 0) and h["residual"][-1] < h["residual"][0]
+    rms = np.linalg.norm(sol.radiosity - ref.radiosity) / np.linalg.norm(ref.radiosity)
+    assert h["rms_error"][-1] == pytest.approx(rms, rel=1e-9)
 
 
 def test_to_meshio_and_render(tmp_path, scene):
