@@ -40,6 +40,8 @@
 #include "solver/gather/point_values.h"
 #include "solver/linear/solver.h"
 #include "solver/reference/path_tracer.h"
+#include "solver/refinement/adaptive_radiosity.h"
+#include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
 #include "viewer/pending_output.h"
 #include "viewer/renderer.h"
@@ -234,8 +236,10 @@ struct SceneData {
     std::string visibility;
 };
 
+/// The patches of a scene, or the elements of a solution that refined them.
 struct PatchArrays {
-    std::shared_ptr<SceneData> scene;
+    const PatchMesh* mesh;
+    py::object owner;  // the Scene or Solution that holds `mesh`: the base of every view
 };
 
 std::shared_ptr<SceneData> load(const std::filesystem::path& scene_path, std::int64_t patches, double max_area,
@@ -351,6 +355,8 @@ py::dict check(const std::shared_ptr<SceneData>& s,
 
 struct SolutionData {
     std::shared_ptr<SceneData> scene;
+    // The scene's patches, or for the element solvers the elements they refined them into.
+    std::shared_ptr<const PatchMesh> mesh;
     SolveResult result;
     std::string settings;
     bool gathered = false;
@@ -365,9 +371,22 @@ std::shared_ptr<SolutionData> solve(
     double max_seconds, double sor, bool overshoot, std::size_t cache_mb, const std::string& method, int rays,
     int receiver_samples, int hemicube_res, bool hemicube_jitter, std::uint64_t seed, std::size_t max_matrix_mb,
     const std::string& gather, bool residuals,
-    const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& reference,
-    const py::object& progress) {
-    check_member("solver", solver_name, solver_names());
+    const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& reference, bool adaptive,
+    double target_error, std::int64_t max_patches, double link_epsilon, int max_level, const py::object& progress) {
+    std::vector<std::string> solvers = solver_names();
+    solvers.push_back("hierarchical");
+    check_member("solver", solver_name, solvers);
+    const bool hierarchical = solver_name == "hierarchical";
+    const bool elements = hierarchical || adaptive;
+    if (elements && method != "raycast") throw InputError("adaptive and hierarchical use raycast form factors");
+    if (adaptive && solver_name != "shooting")
+        throw InputError("adaptive solves its own patch system: it takes no solver (got '" + solver_name + "')");
+    if (elements && (residuals || reference))
+        throw InputError("residuals and reference apply to the patch solvers, not to adaptive or hierarchical");
+    check_positive("target_error", target_error);
+    check_range("max_patches", double(max_patches), 1, 1e7);
+    check_positive("link_epsilon", link_epsilon);
+    check_range("max_level", max_level, 0, 12);
     const FormFactorOptions f =
         form_factor_options(method, rays, receiver_samples, hemicube_res, hemicube_jitter, seed);
     check_positive("tolerance", tolerance);
@@ -386,12 +405,58 @@ std::shared_ptr<SolutionData> solve(
 
     auto out = std::make_shared<SolutionData>();
     out->scene = s;
+    out->mesh = std::shared_ptr<const PatchMesh>(s, s->mesh.get());
     const PatchMesh& mesh = *s->mesh;
     const auto& P = mesh.patches();
+    std::ostringstream settings;
     Job job;
     job.run(
         [&] {
             const auto visibility = make_visibility(s->visibility, P);
+            if (elements) {
+                // The scene's patches are the roots: load() chose their size.
+                SolveResult res;
+                if (hierarchical) {
+                    HierarchicalOptions h;
+                    h.link_epsilon = link_epsilon;
+                    h.max_level = max_level;
+                    h.form_factors = f;
+                    h.cancel = &job.cancel;
+                    HierarchicalSolution sol = solve_hierarchical(P, *visibility, h);
+                    if (job.cancel) return;
+                    out->mesh = std::make_shared<const PatchMesh>(sol.tree.conforming_mesh(sol.leaves));
+                    res = std::move(sol.result);
+                    settings << "patches=" << P.size() << " rays=" << rays << " seed=" << seed
+                             << " solver=hierarchical link_epsilon=" << link_epsilon << " max_level=" << max_level
+                             << " elements=" << sol.leaves.size() << " links=" << sol.links;
+                } else {
+                    AdaptiveOptions a;
+                    a.target_error = target_error;
+                    a.max_elements = std::size_t(max_patches);
+                    a.form_factors = f;
+                    a.cancel = &job.cancel;
+                    a.progress = [&](std::size_t round, const AdaptiveRound& r) {
+                        job.report({"adaptive", round, 0, r.rms_estimate, target_error, r.seconds});
+                    };
+                    AdaptiveSolution sol = solve_adaptive(P, *visibility, a);
+                    if (job.cancel) return;
+                    settle_adaptive_status(sol, a);
+                    out->mesh = std::make_shared<const PatchMesh>(sol.tree.conforming_mesh(sol.leaves));
+                    res = std::move(sol.result);
+                    settings << "patches=" << P.size() << " rays=" << rays << " seed=" << seed
+                             << " solver=adaptive target_error=" << target_error << " max_patches=" << max_patches
+                             << " elements=" << sol.leaves.size() << " rounds=" << sol.rounds.size();
+                }
+                // The elements are what the solution shows: gather from them, with visibility among them.
+                const auto element_visibility = make_visibility(s->visibility, out->mesh->patches());
+                out->gathered = gather_point_values(*out->mesh, *element_visibility, res, gather, &job.cancel,
+                                                    [&](const char* stage, std::size_t d, std::size_t t) {
+                                                        job.report_items(stage, d, t);
+                                                    }) == GatherOutcome::gathered;
+                if (!out->gathered) out->averaged_points = area_weighted_vertex_values(*out->mesh, res.radiosity);
+                out->result = std::move(res);
+                return;
+            }
             const auto ff = make_form_factor_estimator(method, P, visibility.get(), f);
             std::optional<FormFactorMatrix> matrix;
             if (solver_name != "shooting" || residuals)
@@ -425,11 +490,11 @@ std::shared_ptr<SolutionData> solve(
             out->result = std::move(res);
         },
         progress);
-    std::ostringstream settings;
-    settings << "patches=" << mesh.size() << " elements=" << mesh.size() << " edge=" << mesh.edge_length()
-             << " solver=" << solver_name << " sor=" << sor << " method=" << method << " rays=" << rays
-             << " receiver_samples=" << receiver_samples << " hemicube_res=" << hemicube_res << " seed=" << seed
-             << " tolerance=" << tolerance << " (python)";
+    if (!elements)
+        settings << "patches=" << mesh.size() << " elements=" << mesh.size() << " edge=" << mesh.edge_length()
+                 << " solver=" << solver_name << " sor=" << sor << " method=" << method << " rays=" << rays
+                 << " receiver_samples=" << receiver_samples << " hemicube_res=" << hemicube_res << " seed=" << seed
+                 << " tolerance=" << tolerance << " (python)";
     out->settings = settings.str();
     return out;
 }
@@ -454,7 +519,7 @@ py::dict history(const py::object& self) {
 void write_vtu_file(const SolutionData& s, const std::filesystem::path& path, bool ascii, bool meshio) {
     check_output(path);
     py::gil_scoped_release release;
-    write_vtu(path, *s.scene->mesh, s.result, s.info(meshio), ascii);
+    write_vtu(path, *s.mesh, s.result, s.info(meshio), ascii);
 }
 
 void render_file(const SolutionData& s, const std::filesystem::path& path, const std::string& camera, double fov,
@@ -473,7 +538,7 @@ void render_file(const SolutionData& s, const std::filesystem::path& path, const
     r.luminance = luminance;
     r.edges = edges;
     py::gil_scoped_release release;
-    render_solution(*s.scene->mesh, s.result, s.info(false), path, r);
+    render_solution(*s.mesh, s.result, s.info(false), path, r);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -619,83 +684,78 @@ PYBIND11_MODULE(_bounce, m) {
         .def_property_readonly(
             "area",
             [](const PatchArrays& a) {
-                const auto& P = a.scene->mesh->patches();
-                return field_view<double>(P.empty() ? nullptr : &P[0].area, P.size(), sizeof(Patch), 0,
-                                          py::cast(a.scene));
+                const auto& P = a.mesh->patches();
+                return field_view<double>(P.empty() ? nullptr : &P[0].area, P.size(), sizeof(Patch), 0, a.owner);
             },
             "(N,) scene units^2")
         .def_property_readonly(
             "normal",
             [](const PatchArrays& a) {
-                const auto& P = a.scene->mesh->patches();
-                return field_view<double>(P.empty() ? nullptr : &P[0].normal.x, P.size(), sizeof(Patch), 3,
-                                          py::cast(a.scene));
+                const auto& P = a.mesh->patches();
+                return field_view<double>(P.empty() ? nullptr : &P[0].normal.x, P.size(), sizeof(Patch), 3, a.owner);
             },
             "(N, 3) unit, towards the lit front")
         .def_property_readonly(
             "centroid",
             [](const PatchArrays& a) {
-                const auto& P = a.scene->mesh->patches();
-                return field_view<double>(P.empty() ? nullptr : &P[0].centre.x, P.size(), sizeof(Patch), 3,
-                                          py::cast(a.scene));
+                const auto& P = a.mesh->patches();
+                return field_view<double>(P.empty() ? nullptr : &P[0].centre.x, P.size(), sizeof(Patch), 3, a.owner);
             },
             "(N, 3) area centroid")
         .def_property_readonly(
             "reflectance",
             [](const PatchArrays& a) {
-                const auto& P = a.scene->mesh->patches();
+                const auto& P = a.mesh->patches();
                 return field_view<double>(P.empty() ? nullptr : &P[0].reflectance.r, P.size(), sizeof(Patch), 3,
-                                          py::cast(a.scene));
+                                          a.owner);
             },
             "(N, 3) rho per RGB channel")
         .def_property_readonly(
             "emission",
             [](const PatchArrays& a) {
-                const auto& P = a.scene->mesh->patches();
-                return field_view<double>(P.empty() ? nullptr : &P[0].emission.r, P.size(), sizeof(Patch), 3,
-                                          py::cast(a.scene));
+                const auto& P = a.mesh->patches();
+                return field_view<double>(P.empty() ? nullptr : &P[0].emission.r, P.size(), sizeof(Patch), 3, a.owner);
             },
             "(N, 3) emitted radiosity E per channel")
         .def_property_readonly(
             "surface",
             [](const PatchArrays& a) {
-                const auto& P = a.scene->mesh->patches();
+                const auto& P = a.mesh->patches();
                 return field_view<std::int32_t>(P.empty() ? nullptr : &P[0].surface, P.size(), sizeof(Patch), 0,
-                                                py::cast(a.scene));
+                                                a.owner);
             },
             "(N,) index of the input surface each patch was cut from (see surface_names)")
         .def_property_readonly(
             "corners",
             [](const PatchArrays& a) {
-                const auto& P = a.scene->mesh->patches();
+                const auto& P = a.mesh->patches();
                 const std::size_t n = P.size();
                 return read_only(py::array(py::dtype::of<double>(), {n, std::size_t(4), std::size_t(3)},
                                            {sizeof(Patch), sizeof(glm::dvec3), sizeof(double)},
-                                           n ? &P[0].vertices[0].x : nullptr, py::cast(a.scene)));
+                                           n ? &P[0].vertices[0].x : nullptr, a.owner));
             },
             "(N, 4, 3) the patch's corners, counter-clockwise from the front; a triangle's fourth is unused")
         .def_property_readonly(
             "vertex_count",
             [](const PatchArrays& a) {
-                const auto& P = a.scene->mesh->patches();
+                const auto& P = a.mesh->patches();
                 return field_view<std::int32_t>(P.empty() ? nullptr : &P[0].vertex_count, P.size(), sizeof(Patch), 0,
-                                                py::cast(a.scene));
+                                                a.owner);
             },
             "(N,) 3 or 4")
         .def_property_readonly(
             "vertices",
             [](const PatchArrays& a) {
-                const auto& mesh = a.scene->mesh->mesh();
+                const auto& mesh = a.mesh->mesh();
                 static_assert(sizeof(OpenPatchMesh::Point) == 3 * sizeof(double));
                 const std::size_t v = mesh.n_vertices();
-                return field_view<double>(v ? mesh.points()[0].data() : nullptr, v, 3 * sizeof(double), 3,
-                                          py::cast(a.scene));
+                return field_view<double>(v ? mesh.points()[0].data() : nullptr, v, 3 * sizeof(double), 3, a.owner);
             },
             "(V, 3) the mesh's vertices (shared by the patches of one surface; the point data lives here)")
         .def_property_readonly(
             "faces",
             [](const PatchArrays& a) {
-                const PatchMesh& mesh = *a.scene->mesh;
+                const PatchMesh& mesh = *a.mesh;
                 std::size_t width = 3;
                 std::vector<std::vector<int>> faces(mesh.size());
                 for (std::size_t p = 0; p < mesh.size(); ++p) {
@@ -710,11 +770,14 @@ PYBIND11_MODULE(_bounce, m) {
             },
             "(N, 3 or 4) vertex indices of each patch, padded with -1 (a new array: OpenMesh keeps faces as "
             "half-edges)")
-        .def("__len__", [](const PatchArrays& a) { return a.scene->mesh->size(); });
+        .def("__len__", [](const PatchArrays& a) { return a.mesh->size(); });
 
     py::class_<SceneData, std::shared_ptr<SceneData>>(m, "Scene", "A scene cut into patches (bounce.load).")
         .def_readonly("name", &SceneData::spec, "'cornell' or the path it was loaded from")
-        .def_property_readonly("patches", [](const std::shared_ptr<SceneData>& s) { return PatchArrays{s}; })
+        .def_property_readonly("patches",
+                               [](const py::object& self) {
+                                   return PatchArrays{self.cast<const SceneData&>().mesh.get(), self};
+                               })
         .def_property_readonly(
             "warnings", [](const SceneData& s) { return s.scene.warnings; },
             "problems with the input that were repaired")
@@ -740,6 +803,12 @@ PYBIND11_MODULE(_bounce, m) {
 
     py::class_<SolutionData, std::shared_ptr<SolutionData>>(m, "Solution", "A radiosity solution (bounce.solve).")
         .def_readonly("scene", &SolutionData::scene)
+        .def_property_readonly(
+            "patches",
+            [](const py::object& self) {
+                return PatchArrays{self.cast<const SolutionData&>().mesh.get(), self};
+            },
+            "the patches the solution is over: the scene's, or the elements adaptive and hierarchical made")
         .def_property_readonly(
             "radiosity",
             [](const py::object& self) { return rgb_view(self.cast<const SolutionData&>().result.radiosity, self); },
@@ -822,7 +891,8 @@ PYBIND11_MODULE(_bounce, m) {
           py::arg("rays") = 4, py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256,
           py::arg("hemicube_jitter") = false, py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048,
           py::arg("gather") = "vertices", py::arg("residuals") = false, py::arg("reference") = py::none(),
-          py::arg("progress") = py::none());
+          py::arg("adaptive") = false, py::arg("target_error") = 0.05, py::arg("max_patches") = 20000,
+          py::arg("link_epsilon") = 0.1, py::arg("max_level") = 4, py::arg("progress") = py::none());
     m.def("reference", &reference, py::arg("scene"), py::arg("points") = py::none(), py::arg("normals") = py::none(),
           py::kw_only(), py::arg("probes") = 0, py::arg("target_error") = 0.005,
           py::arg("max_paths") = double(std::uint64_t(1) << 20), py::arg("seed") = 1, py::arg("skip_missing") = false,

@@ -67,7 +67,7 @@ def _to_meshio(self):
     import meshio
     import numpy as np
 
-    p = self.scene.patches
+    p = self.patches
     faces = p.faces
     counts = (faces >= 0).sum(axis=1)
     per_cell = {

@@ -100,3 +100,30 @@ def test_to_meshio_and_render(tmp_path, scene):
     sol.render(out, size=(64, 48))
     import matplotlib.image
     assert matplotlib.image.imread(out).shape[:2] == (48, 64)
+
+
+@pytest.mark.parametrize(
+    "load_options, py_options, cli_options",
+    [
+        ({"subdivide": False}, {"solver": "hierarchical", "max_level": 1, "gather": "none"},
+         ["--no-subdivide", "--solver", "hierarchical", "--max-level", "1", "--gather", "none"]),
+        ({"patches": 100}, {"adaptive": True, "max_patches": 2000},
+         ["--patches", "100", "--adaptive", "--max-patches", "2000"]),
+    ],
+    ids=["hierarchical", "adaptive-gathered"],
+)
+def test_element_solution_equals_command_line_vtu(tmp_path, run_cli, load_options, py_options, cli_options):
+    cli_vtu = tmp_path / "cli.vtu"
+    code, _, err = run_cli("solve", "--meshio", "-q", "-o", cli_vtu, *cli_options)
+    cli = meshio.read(cli_vtu)
+    scene = bounce.load("cornell", **load_options)
+    sol = bounce.solve(scene, **py_options)
+    assert code == (0 if sol.converged else 3), err
+    # The solution is over the elements it made, not the scene's patches.
+    assert len(sol.radiosity) == len(sol.patches) > len(scene)
+    assert_same(sol.radiosity, cell_array(cli, "radiosity"), "radiosity")
+    assert_same(sol.patches.area, cell_array(cli, "area"), "element areas")
+    assert_same(sol.point_radiosity, cli.point_data["radiosity"], "point radiosity")
+    assert_same(sol.patches.vertices, cli.points, "element vertices")
+    assert sol.patches.area.sum() == pytest.approx(scene.total_area, rel=1e-9)
+    assert sol.patches.area.base is sol
