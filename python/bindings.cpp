@@ -879,12 +879,19 @@ PYBIND11_MODULE(_bounce, m) {
     m.def("load", &load, py::arg("scene") = "cornell", py::kw_only(), py::arg("patches") = 2000,
           py::arg("max_area") = 0.0, py::arg("max_edge") = 0.0, py::arg("subdivide") = true,
           py::arg("contact_cuts") = true, py::arg("flip") = false, py::arg("strict") = false,
-          py::arg("visibility") = visibility_backends().front());
+          py::arg("visibility") = visibility_backends().front(),
+          "The scene cut into patches (the package's bounce.load wraps this and issues the warnings).");
     m.def("form_factors", &form_factors, py::arg("scene"), py::kw_only(), py::arg("method") = "raycast",
           py::arg("rays") = 4, py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256,
           py::arg("hemicube_jitter") = false, py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048,
-          py::arg("format") = "dense", py::arg("progress") = py::none());
-    m.def("check_form_factors", &check, py::arg("scene"), py::arg("F"));
+          py::arg("format") = "dense", py::arg("progress") = py::none(),
+          "The whole form-factor matrix, F[i, j] the fraction of power leaving patch i that reaches j, as "
+          "`bounce form-factors` computes it: an N x N float32 view of the library's matrix, or with "
+          "format='csr' the tuple (data, indices, indptr) of its non-zero entries (built from the dense one).");
+    m.def("check_form_factors", &check, py::arg("scene"), py::arg("F"),
+          "Row sums and reciprocity of F over the scene's patches, as `bounce form-factors --check` prints them: "
+          "a dict of row_sums (N,), row_sum_min/mean/max, deviation_min/mean/max (|sum - 1|), reciprocity_max "
+          "(max |A_i F_ij - A_j F_ji| / (A_i F_ij) over F_ij >= 1e-3) and reciprocity_overall.");
     m.def("solve", &solve, py::arg("scene"), py::kw_only(), py::arg("solver") = "shooting", py::arg("tolerance") = 1e-3,
           py::arg("max_iterations") = 0, py::arg("max_seconds") = 0.0, py::arg("sor") = 1.0,
           py::arg("overshoot") = false, py::arg("cache_mb") = 1024, py::arg("form_factors") = "raycast",
@@ -892,11 +899,21 @@ PYBIND11_MODULE(_bounce, m) {
           py::arg("hemicube_jitter") = false, py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048,
           py::arg("gather") = "vertices", py::arg("residuals") = false, py::arg("reference") = py::none(),
           py::arg("adaptive") = false, py::arg("target_error") = 0.05, py::arg("max_patches") = 20000,
-          py::arg("link_epsilon") = 0.1, py::arg("max_level") = 4, py::arg("progress") = py::none());
+          py::arg("link_epsilon") = 0.1, py::arg("max_level") = 4, py::arg("progress") = py::none(),
+          "Radiosity of the scene, as `bounce solve` computes it with the same options (the keywords are its "
+          "flags: solver shooting, gauss-seidel, jacobi, direct or hierarchical; form_factors raycast, exact, "
+          "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive). "
+          "residuals=True builds the matrix for shooting too, so its history has residuals; reference (N x 3) "
+          "adds the error columns. progress(bounce.Progress) is called up to 20 times a second; Ctrl-C raises "
+          "KeyboardInterrupt within a shot or sweep.");
     m.def("reference", &reference, py::arg("scene"), py::arg("points") = py::none(), py::arg("normals") = py::none(),
           py::kw_only(), py::arg("probes") = 0, py::arg("target_error") = 0.005,
           py::arg("max_paths") = double(std::uint64_t(1) << 20), py::arg("seed") = 1, py::arg("skip_missing") = false,
-          py::arg("progress") = py::none());
+          py::arg("progress") = py::none(),
+          "The path-traced reference, as `bounce reference` computes it: at `probes` points spread by area, or "
+          "at the given points (M x 3, with their normals M x 3, snapped to the surface they face). A dict of "
+          "position, normal, surface, radiosity and standard_error (M x 3), paths, and status ('converged', "
+          "'budget', 'interrupted' or, with skip_missing, 'missing' with NaN values).");
     m.def("solver_names", &solver_names);
     m.def("form_factor_methods", &form_factor_methods);
     m.def("gather_modes", &gather_modes);
