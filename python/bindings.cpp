@@ -2,7 +2,7 @@
 // _bounce, the extension inside the Python package `bounce` (python/bounce/__init__.py):
 // scenes, form factors and solutions as numpy arrays, over the same mesh, solver and viewer
 // libraries as the command line. Every long call runs on a worker thread with the GIL
-// released while the calling thread polls for Ctrl-C and reports progress (run_job).
+// released while the calling thread polls for Ctrl-C and reports progress (Job::run).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -665,8 +665,9 @@ PYBIND11_MODULE(_bounce, m) {
 
     py::class_<Progress>(m, "Progress", "What a long call reports to its progress callback.")
         .def_readonly("stage", &Progress::stage,
-                      "'form factors', 'solve', 'gathering: vertices' or 'gathering: centres'")
-        .def_readonly("step", &Progress::step, "rows, shots, sweeps or points done")
+                      "'form factors', 'solve', 'adaptive' (step: round, value: RMS error estimate), "
+                      "'gathering: vertices', 'gathering: centres' or 'path tracing: points'")
+        .def_readonly("step", &Progress::step, "rows, shots, sweeps, rounds or points done")
         .def_readonly("total", &Progress::total, "of how many (0: unknown)")
         .def_readonly("value", &Progress::value, "solve: unshot fraction (shooting) or relative residual; else -1")
         .def_readonly("tolerance", &Progress::tolerance, "solve: the value it stops below")
