@@ -73,3 +73,26 @@ def test_exception_in_progress_callback_stops_the_solve(big_scene):
     with pytest.raises(Enough):
         bounce.solve(big_scene, tolerance=1e-9, gather="none", progress=progress)
     assert seen[-1] >= 200
+
+
+def test_solve_releases_the_gil(big_scene):
+    # Another Python thread keeps running while the solve works: were the GIL held, it would
+    # not get a single step in until the solve returned.
+    ticks = []
+    stop = threading.Event()
+
+    def tick():
+        while not stop.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.001)
+
+    t = threading.Thread(target=tick, daemon=True)
+    start = time.monotonic()
+    t.start()
+    sol = bounce.solve(big_scene, tolerance=1e-9, max_seconds=0.5, gather="none")
+    end = time.monotonic()
+    stop.set()
+    t.join()
+    assert sol.status == "max seconds"
+    during = [x for x in ticks if start + 0.1 < x < end - 0.1]
+    assert len(during) > 50, f"{len(during)} ticks while the solve ran"
