@@ -9,7 +9,6 @@
 #include <sstream>
 #include <thread>
 
-#include "mesh/contact_cuts.h"
 #include "mesh/input_error.h"
 #include "mesh/scene_loader.h"
 #include "solver/form_factors/form_factor_matrix.h"
@@ -36,7 +35,7 @@ const CLI::Validator kPositive(
             if (used == v.size() && std::isfinite(x) && x > 0) return std::string();
         } catch (const std::exception&) {
         }
-        return "not a positive number, got '" + v + "' (expected > 0)";
+        return not_positive_text(v);
     },
     "> 0");
 
@@ -47,11 +46,10 @@ CLI::Validator in_range(double lo, double hi) {
                 std::size_t used = 0;
                 const double x = std::stod(v, &used);
                 if (used == v.size() && x >= lo && x <= hi) return std::string();
-                if (used == v.size() && std::isfinite(x))
-                    return "out of range, got " + v + " (expected " + number_text(lo) + " to " + number_text(hi) + ")";
+                if (used == v.size() && std::isfinite(x)) return out_of_range_text(v, lo, hi);
             } catch (const std::exception&) {
             }
-            return "not a number, got '" + v + "' (expected " + number_text(lo) + " to " + number_text(hi) + ")";
+            return not_a_number_text(v, lo, hi);
         },
         "in [" + number_text(lo) + ", " + number_text(hi) + "]");
 }
@@ -71,13 +69,7 @@ constexpr double kManyPatches = 50000;  // above this, say how many patches befo
 }  // namespace
 
 PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& scene) {
-    scene = load_scene(spec);
-    if (o.flip) {
-        for (auto& surface : scene.surfaces) std::reverse(surface.vertices.begin(), surface.vertices.end());
-        // What no light reaches depends on which way the faces look.
-        scene.covered = find_covered_regions(scene);
-    }
-    if (o.strict && !scene.warnings.empty()) throw InputError(scene.warnings.front() + " (--strict)");
+    scene = load_scene(spec, LoadOptions{o.flip, o.strict});
     print_warnings(scene, o.quiet);
     MeshingOptions m = o.meshing;
     m.max_patches = std::min(m.max_patches, (o.max_memory_mb << 20) / kBytesPerPatch);
@@ -133,14 +125,6 @@ void check_form_factor_memory(const CommonOptions& o, const std::string& method,
     const double threads = o.threads > 0 ? o.threads : double(std::thread::hardware_concurrency());
     check_memory(o, "hemicube buffers (" + std::to_string(f.hemicube_resolution) + " pixels a side, per thread)",
                  threads * r * r * 1.5 * 12.0 + 1.0);
-}
-
-void check_output(const std::filesystem::path& out) {
-    const auto dir = out.has_parent_path() ? out.parent_path() : std::filesystem::path(".");
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec))
-        throw InputError(out.string() + ": output directory " + dir.string() + " does not exist");
-    if (std::filesystem::is_directory(out, ec)) throw InputError(out.string() + ": is a directory");
 }
 
 void add_meshing_options(CLI::App* cmd, CommonOptions& o) {

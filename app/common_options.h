@@ -14,6 +14,7 @@
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/solve_result.h"
 #include "solver/visibility/visibility.h"
+#include "viewer/pending_output.h"
 #include "viewer/renderer.h"
 
 namespace bounce::app {
@@ -61,8 +62,5 @@ void check_form_factor_memory(const CommonOptions& o, const std::string& method,
 /// naming the likely faces and --flip. Returns true when it warned.
 bool warn_about_winding(const CommonOptions& o, const Scene& scene, const std::vector<Patch>& patches,
                         const SolveResult& result);
-
-/// Refuses an unwritable destination before any work is done.
-void check_output(const std::filesystem::path& out);
 
 }  // namespace bounce::app

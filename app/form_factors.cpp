@@ -14,6 +14,7 @@
 #include "app/signals.h"
 #include "mesh/patch_mesh.h"
 #include "solver/form_factors/exact_form_factor.h"
+#include "solver/form_factors/form_factor_check.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/visibility/visibility.h"
@@ -45,9 +46,8 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
     const auto F = FormFactorMatrix::build(
         *ff, n, c.max_matrix_mb << 20, [&](std::size_t d, std::size_t t) { progress.rows(d, t); }, &g_interrupted);
     progress.finish();
-    std::vector<double> sums(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = 0; j < n; ++j) sums[i] += F(i, j);
+    const FormFactorCheck check = check_form_factors(P, F);
+    const std::vector<double>& sums = check.row_sums;
     if (!c.output.empty()) {
         write_text_file(
             c.output,
@@ -65,30 +65,10 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
                   << 1e3 * F.seconds() / double(std::max<std::size_t>(n, 1)) << " ms per row)\n";
     }
     if (c.check) {
-        double lo = 1e300, hi = -1e300, mean = 0, recip = 0, diff = 0, total = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            lo = std::min(lo, sums[i]);
-            hi = std::max(hi, sums[i]);
-            mean += sums[i] / double(n);
-            for (std::size_t j = 0; j < n; ++j) {
-                const double aij = P[i].area * F(i, j), aji = P[j].area * F(j, i);
-                diff += std::abs(aij - aji);
-                total += aij;
-                if (F(i, j) >= 1e-3) recip = std::max(recip, std::abs(aij - aji) / aij);
-            }
-        }
-        // In a closed scene every row sums to 1; |sum - 1| is the error a furnace amplifies by
-        // 1 / (1 - rho). (Entries are stored as float: about 1e-7 of each row is rounding.)
-        double dlo = 1e300, dhi = 0, dmean = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double d = std::abs(sums[i] - 1.0);
-            dlo = std::min(dlo, d);
-            dhi = std::max(dhi, d);
-            dmean += d / double(std::max<std::size_t>(n, 1));
-        }
-        std::cout << "row sums: min " << lo << ", mean " << mean << ", max " << hi << "\n"
-                  << "row-sum deviation |sum_j F_ij - 1| (closed scenes): min " << dlo << ", mean " << dmean << ", max "
-                  << dhi << "\n";
+        std::cout << "row sums: min " << check.row_sum_min << ", mean " << check.row_sum_mean << ", max "
+                  << check.row_sum_max << "\n"
+                  << "row-sum deviation |sum_j F_ij - 1| (closed scenes): min " << check.deviation_min << ", mean "
+                  << check.deviation_mean << ", max " << check.deviation_max << "\n";
         if (const auto* exact = dynamic_cast<const ExactFormFactor*>(ff.get())) {
             const PairTally t = exact->tally();
             double area = 0;
@@ -98,9 +78,9 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
                       << " of the mean row sum, with estimated error " << t.partial_area_error / area
                       << " (area-weighted mean per row)\n";
         }
-        std::cout << "reciprocity |A_i F_ij - A_j F_ji| / (A_i F_ij): max " << recip
+        std::cout << "reciprocity |A_i F_ij - A_j F_ji| / (A_i F_ij): max " << check.reciprocity_max
                   << " (over F_ij >= 1e-3); overall sum|A_i F_ij - A_j F_ji| / sum A_i F_ij = "
-                  << (total > 0 ? diff / total : 0.0) << "\n";
+                  << check.reciprocity_overall << "\n";
     }
     return 0;
 }

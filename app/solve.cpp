@@ -109,6 +109,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         };
         AdaptiveSolution sol = solve_adaptive(mesh.patches(), *visibility, a);
         progress.finish();
+        settle_adaptive_status(sol, a);
         elements.emplace(sol.tree.conforming_mesh(sol.leaves));
         res = std::move(sol.result);
         settings << " solver=adaptive target_error=" << a.target_error << " max_patches=" << a.max_elements
@@ -116,8 +117,6 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         summary << "patches " << mesh.size() << ", adaptive: " << sol.leaves.size() << " elements after "
                 << sol.rounds.size() << " rounds, RMS error estimate " << sol.rounds.back().rms_estimate << " (target "
                 << a.target_error << "), " << res.seconds << " s\n";
-        res.converged = res.converged && sol.rounds.back().rms_estimate <= a.target_error;
-        if (!res.converged && res.status == "converged") res.status = "element budget reached";
     }
     if (s.gather != "none" && !g_interrupted.load()) {
         // The elements are what the file shows: gather from them, with visibility among them.

@@ -14,4 +14,17 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// The one style of every range error, after the option, file and line it concerns:
+/// "out of range, got V (expected LO to HI)" and "not a positive number, got 'V' (expected > 0)".
+std::string out_of_range_text(const std::string& value, double lo, double hi);
+std::string not_positive_text(const std::string& value);
+/// "not a number, got 'V' (expected LO to HI)".
+std::string not_a_number_text(const std::string& value, double lo, double hi);
+
+/// An input file that does not exist (the Python module raises FileNotFoundError for it).
+class MissingFileError : public InputError {
+public:
+    using InputError::InputError;
+};
+
 }  // namespace bounce

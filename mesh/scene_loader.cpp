@@ -37,4 +37,14 @@ Scene load_scene(const std::string& spec) {
     return scene;
 }
 
+Scene load_scene(const std::string& spec, const LoadOptions& options) {
+    Scene scene = load_scene(spec);
+    if (options.flip) {
+        for (auto& surface : scene.surfaces) std::reverse(surface.vertices.begin(), surface.vertices.end());
+        scene.covered = find_covered_regions(scene);
+    }
+    if (options.strict && !scene.warnings.empty()) throw InputError(scene.warnings.front() + " (--strict)");
+    return scene;
+}
+
 }  // namespace bounce

@@ -12,7 +12,7 @@ namespace bounce {
 std::string read_text_file(const std::filesystem::path& path, std::string_view what) {
     std::error_code ec;
     const std::string p = path.string();
-    if (!std::filesystem::exists(path, ec)) throw InputError(p + ": " + std::string(what) + " not found");
+    if (!std::filesystem::exists(path, ec)) throw MissingFileError(p + ": " + std::string(what) + " not found");
     if (std::filesystem::is_directory(path, ec))
         throw InputError(p + ": is a directory, expected " + std::string(what));
     // Devices and pipes (/dev/zero, a FIFO) never end; only regular files are read.

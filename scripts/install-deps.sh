@@ -6,6 +6,7 @@ PKGS=(build-essential cmake pkg-config
       libtbb-dev libembree-dev nlohmann-json3-dev libcli11-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       python3-vtk9 python3-meshio python3-matplotlib xvfb xauth
+      pybind11-dev python3-dev python3-numpy python3-pytest
       clang libclang-rt-14-dev clang-format)
 missing=()
 for p in "${PKGS[@]}"; do

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fails when a folder includes from a folder further along the data flow
-# (mesh -> solver -> viewer -> app), when a solver room includes from a room further along
+# (mesh -> solver -> viewer -> app and python, the two front ends, which never include each
+# other), when a solver room includes from a room further along
 # (visibility -> form_factors -> linear -> refinement), or when solver/ or mesh/ mention VTK.
 set -u
 root="$1"
@@ -10,9 +11,11 @@ check() {  # folder, forbidden include pattern
     echo "layering: $1/ must not include $2"; bad=1
   fi
 }
-check mesh   'solver/|viewer/|app/|vtk'
-check solver 'viewer/|app/|vtk'
-check viewer 'app/'
+check mesh   'solver/|viewer/|app/|python/|vtk'
+check solver 'viewer/|app/|python/|vtk'
+check viewer 'app/|python/'
+check app    'python/'
+check python 'app/'
 
 # The solver's rooms, lowest first; a new room goes into this list at its place in the flow.
 rooms=(visibility form_factors linear refinement gather reference)

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "mesh/input_error.h"
+
 namespace bounce {
 namespace {
 char g_path[4096];
@@ -21,6 +23,14 @@ void set_pending_output(const char* path) {
 }
 
 const char* pending_output() { return g_set ? g_path : nullptr; }
+
+void check_output(const std::filesystem::path& out) {
+    const auto dir = out.has_parent_path() ? out.parent_path() : std::filesystem::path(".");
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec))
+        throw MissingFileError(out.string() + ": output directory " + dir.string() + " does not exist");
+    if (std::filesystem::is_directory(out, ec)) throw InputError(out.string() + ": is a directory");
+}
 
 void commit_output(const std::filesystem::path& tmp, const std::filesystem::path& final, bool written,
                    const std::string& what) {

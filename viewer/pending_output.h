@@ -25,6 +25,10 @@ void commit_output(const std::filesystem::path& tmp, const std::filesystem::path
 void write_text_file(const std::filesystem::path& final, const std::function<void(std::ostream&)>& body,
                      const std::string& what);
 
+/// Refuses an unwritable destination before any work is done: InputError (MissingFileError
+/// when its folder does not exist) naming it.
+void check_output(const std::filesystem::path& out);
+
 /// Registers `path` for the lifetime of the object.
 class PendingOutput {
 public:

@@ -56,6 +56,11 @@ struct AdaptiveSolution {
 AdaptiveSolution solve_adaptive(const std::vector<Patch>& patches, const Visibility& visibility,
                                 const AdaptiveOptions& options);
 
+/// Converged means the estimate reached the target, not only that the last patch-level solve
+/// converged: otherwise result.converged is false and a "converged" status becomes "element
+/// budget reached". (The command line's and the Python module's verdict.)
+void settle_adaptive_status(AdaptiveSolution& solution, const AdaptiveOptions& options);
+
 /// Uniform refinement to `level` (every patch cut into 4^level elements) with the same
 /// machinery: the baseline adaptive subdivision is measured against.
 AdaptiveSolution solve_uniform_elements(const std::vector<Patch>& patches, const Visibility& visibility, int level,

@@ -1,0 +1,95 @@
+# SPDX-License-Identifier: MIT
+"""bounce from Python: scenes, form factors and radiosity solutions as numpy arrays.
+
+A thin layer over the library the ``bounce`` command line uses (the extension ``_bounce``)::
+
+    import bounce
+    scene = bounce.load("cornell", patches=2000)        # or a .obj / .json path
+    F = bounce.form_factors(scene, method="raycast")    # N x N float32, the library's storage
+    sol = bounce.solve(scene, solver="shooting", tolerance=1e-3, progress=print)
+    sol.radiosity                                       # N x 3, W/m^2 per channel (a view)
+    sol.write_vtu("cornell.vtu"); sol.render("cornell.png")
+    ref = bounce.reference(scene, probes=64)            # path-traced B at 64 points, with errors
+
+Long calls release the GIL and stop on Ctrl-C (KeyboardInterrupt; nothing is returned or
+written). Bad input raises ValueError, a missing file FileNotFoundError, each with the command
+line's one-line message (file and line included).
+"""
+
+import warnings as _warnings
+
+from ._bounce import (  # noqa: F401
+    Patches,
+    Progress,
+    Scene,
+    Solution,
+    __version__,
+    check_form_factors,
+    form_factor_methods,
+    form_factors,
+    gather_modes,
+    reference,
+    solve,
+    solver_names,
+    visibility_backends,
+)
+from ._bounce import load as _load
+
+__all__ = [
+    "Patches", "Progress", "Scene", "Solution", "check_form_factors", "form_factor_methods",
+    "form_factors", "gather_modes", "load", "reference", "solve", "solver_names", "visibility_backends",
+]
+
+
+def load(scene="cornell", *, patches=2000, max_area=0.0, max_edge=0.0, subdivide=True,
+         contact_cuts=True, flip=False, strict=False, visibility=None, quiet=False):
+    """Loads a scene ("cornell", a .obj, .json, .ply or .off path) and cuts it into patches.
+
+    patches: about this many when neither max_area nor max_edge (scene units) is given.
+    contact_cuts: leave out what no light reaches (a floor under a block). flip: turn every
+    face round. strict: a repaired input problem is an error. The repairs are issued as Python
+    warnings unless quiet (they stay in ``scene.warnings``).
+    """
+    if visibility is None:
+        visibility = visibility_backends()[0]
+    s = _load(scene, patches=patches, max_area=max_area, max_edge=max_edge, subdivide=subdivide,
+              contact_cuts=contact_cuts, flip=flip, strict=strict, visibility=visibility)
+    if not quiet:
+        for w in s.warnings:
+            _warnings.warn(w, stacklevel=2)
+    return s
+
+
+def _to_meshio(self):
+    """The solution as a meshio.Mesh: one cell per patch (triangle and quad blocks in patch
+    order), the cell data radiosity, irradiance, emission, reflectance, area and surface, and the
+    point data radiosity (gathered or averaged, as in the .vtu)."""
+    import meshio
+    import numpy as np
+
+    p = self.patches
+    faces = p.faces
+    counts = (faces >= 0).sum(axis=1)
+    per_cell = {
+        "radiosity": self.radiosity,
+        "irradiance": self.irradiance,
+        "emission": p.emission,
+        "reflectance": p.reflectance,
+        "area": p.area,
+        "surface": p.surface,
+    }
+    # meshio keeps cells in blocks of one type: consecutive runs keep the patch order.
+    starts = np.flatnonzero(np.diff(counts, prepend=-1) != 0)
+    ends = np.append(starts[1:], len(counts))
+    cells, cell_data = [], {k: [] for k in per_cell}
+    for a, b in zip(starts, ends):
+        k = int(counts[a])
+        cells.append(({3: "triangle", 4: "quad"}.get(k, "polygon"), faces[a:b, :k]))
+        for name, values in per_cell.items():
+            cell_data[name].append(np.asarray(values[a:b]))
+    return meshio.Mesh(np.asarray(p.vertices), cells,
+                       point_data={"radiosity": np.asarray(self.point_radiosity)},
+                       cell_data=cell_data)
+
+
+Solution.to_meshio = _to_meshio

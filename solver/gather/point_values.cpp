@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+#include "solver/gather/point_values.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+#include "solver/gather/final_gather.h"
+
+namespace bounce {
+
+std::vector<std::string> gather_modes() { return {"vertices", "centres", "none"}; }
+
+GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res,
+                                  const std::string& mode, const std::atomic<bool>* cancel,
+                                  const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
+    const auto modes = gather_modes();
+    if (std::find(modes.begin(), modes.end(), mode) == modes.end())
+        throw std::invalid_argument("gather: unknown mode, got '" + mode + "' (expected vertices, centres or none)");
+    if (mode == "none") return GatherOutcome::not_asked;
+    const double pairs = double(mesh.mesh().n_vertices()) * double(mesh.size());
+    if (pairs > kMaxGatherPairs) return GatherOutcome::over_budget;
+    auto stopped = [&] { return cancel && cancel->load(); };
+    auto report = [&](const char* stage) {
+        return [&progress, stage](std::size_t d, std::size_t t) {
+            if (progress) progress(stage, d, t);
+        };
+    };
+    const auto start = std::chrono::steady_clock::now();
+    const auto vertices = vertex_gather_points(mesh);
+    res.point_radiosity =
+        final_gather(mesh.patches(), res.radiosity, visibility, vertices, {}, cancel, report("gathering: vertices"));
+    if (mode == "centres" && !stopped()) {
+        const auto centres = centre_gather_points(mesh.patches());
+        res.gathered_centres =
+            final_gather(mesh.patches(), res.radiosity, visibility, centres, {}, cancel, report("gathering: centres"));
+    }
+    res.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (stopped()) {
+        res.point_radiosity.clear();
+        res.gathered_centres.clear();
+        return GatherOutcome::interrupted;
+    }
+    return GatherOutcome::gathered;
+}
+
+}  // namespace bounce

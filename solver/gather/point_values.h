@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: MIT
+// The point data a solve exports: gathered at the vertices (and optionally the patch centres),
+// as the command line and the Python module both ask for it.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "mesh/patch_mesh.h"
+#include "solver/linear/solve_result.h"
+#include "solver/visibility/visibility.h"
+
+namespace bounce {
+
+/// Gather modes: "vertices" (the default), "centres" (vertices and patch centres), "none"
+/// (point data averaged from the patches around each vertex).
+std::vector<std::string> gather_modes();
+
+/// Point-to-patch pairs above which the gather is skipped (about 10 s on 2 cores): its cost is
+/// vertices x patches, which a hierarchy of patches would cut.
+inline constexpr double kMaxGatherPairs = 1e8;
+
+enum class GatherOutcome {
+    gathered,     // res.point_radiosity (and for "centres" res.gathered_centres) filled
+    not_asked,    // mode "none"
+    over_budget,  // more than kMaxGatherPairs vertex-patch pairs
+    interrupted,  // `cancel` was set; nothing kept
+};
+
+/// Fills res.point_radiosity (and res.gathered_centres for "centres") by final gather from the
+/// solved patches and adds the time to res.seconds. Leaves them empty (the averaged point data
+/// is written) unless it returns `gathered`. `progress(stage, done, total)` is called from
+/// worker threads; stage is "gathering: vertices" or "gathering: centres". Throws
+/// std::invalid_argument on an unknown mode, listing the valid ones.
+GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res,
+                                  const std::string& mode, const std::atomic<bool>* cancel = nullptr,
+                                  const std::function<void(const char*, std::size_t, std::size_t)>& progress = {});
+
+}  // namespace bounce

@@ -1,0 +1,68 @@
+# SPDX-License-Identifier: MIT
+# Bad input raises the exception that fits, with the command line's one-line message (the
+# file and line included): the program prints "bounce: error: <message>" and exits with 2.
+import pytest
+
+import bounce
+
+PREFIX = "bounce: error: "
+
+
+def cli_message(run_cli, *args):
+    code, _, err = run_cli(*args)
+    assert code == 2, err
+    lines = [line for line in err.splitlines() if line.startswith(PREFIX)]
+    assert len(lines) == 1, err
+    return lines[0][len(PREFIX):]
+
+
+def test_missing_scene_is_file_not_found(tmp_path, run_cli):
+    missing = tmp_path / "nowhere.obj"
+    with pytest.raises(FileNotFoundError) as e:
+        bounce.load(str(missing))
+    assert str(e.value) == cli_message(run_cli, "info", missing)
+    assert str(missing) in str(e.value)
+
+
+@pytest.mark.parametrize(
+    "text, line",
+    [
+        ("v 0 0 0\nv 1 0 0\nv 0 1 x\nf 1 2 3\n", 3),      # a bad number
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n", 5),  # an index past the vertices
+    ],
+    ids=["bad-number", "bad-index"],
+)
+def test_bad_obj_is_value_error_with_file_and_line(tmp_path, run_cli, text, line):
+    bad = tmp_path / "bad.obj"
+    bad.write_text(text)
+    with pytest.raises(ValueError) as e:
+        bounce.load(str(bad))
+    message = str(e.value)
+    assert message.startswith(f"{bad}:{line}:"), message
+    assert message == cli_message(run_cli, "info", bad)
+
+
+def test_bad_options_are_value_errors_in_the_command_lines_words(run_cli):
+    with pytest.raises(ValueError) as e:
+        bounce.load("cornell", patches=0)
+    cli = cli_message(run_cli, "info", "--patches", "0")
+    assert cli.startswith("--patches: ")
+    # The same sentence after the option's name (keyword in Python, flag on the command line).
+    assert str(e.value) == cli[len("--"):].split(" (see --help)")[0]
+    scene = bounce.load("cornell", patches=20)
+    with pytest.raises(ValueError, match=r"solver: unknown, got 'newton' \(expected one of shooting"):
+        bounce.solve(scene, solver="newton")
+    with pytest.raises(ValueError, match="rays: out of range, got 0"):
+        bounce.solve(scene, rays=0)
+    with pytest.raises(ValueError, match="method: unknown"):
+        bounce.form_factors(scene, method="radiance")
+
+
+def test_unwritable_output(tmp_path):
+    sol = bounce.solve(bounce.load("cornell", patches=20), gather="none")
+    out = tmp_path / "no" / "such" / "dir.vtu"
+    with pytest.raises(FileNotFoundError, match="output directory .* does not exist"):
+        sol.write_vtu(out)
+    with pytest.raises(ValueError, match="png"):
+        sol.render(tmp_path / "picture.bmp")
+    assert list(tmp_path.iterdir()) == []

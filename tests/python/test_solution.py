@@ -1,0 +1,129 @@
+# SPDX-License-Identifier: MIT
+# The solution from Python is the command line's: same options, same numbers (1e-12), read back
+# from the .vtu `bounce solve` writes. And what the module writes itself matches what it holds.
+import meshio
+import numpy as np
+import pytest
+
+import bounce
+
+PATCHES = 300
+
+
+def cell_array(mesh, name):
+    # meshio splits the cells into blocks of one type, in file order: joined, patch order.
+    return np.concatenate([np.asarray(b) for b in mesh.cell_data[name]])
+
+
+def assert_same(a, b, what):
+    a, b = np.asarray(a), np.asarray(b)
+    assert a.shape == b.shape, what
+    scale = np.max(np.abs(b))
+    assert scale > 0, what
+    err = np.max(np.abs(a - b))
+    assert err <= 1e-12 * scale, f"{what}: max difference {err} (scale {scale})"
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return bounce.load("cornell", patches=PATCHES)
+
+
+@pytest.mark.parametrize(
+    "py_options, cli_options",
+    [
+        ({}, []),
+        ({"solver": "gauss-seidel", "tolerance": 1e-5, "form_factors": "analytic", "gather": "none"},
+         ["--solver", "gauss-seidel", "--tolerance", "1e-5", "--form-factors", "analytic", "--gather", "none"]),
+    ],
+    ids=["shooting-raycast-gathered", "gauss-seidel-analytic-averaged"],
+)
+def test_solution_equals_command_line_vtu(tmp_path, run_cli, scene, py_options, cli_options):
+    cli_vtu = tmp_path / "cli.vtu"
+    code, _, err = run_cli("solve", "--patches", PATCHES, "--meshio", "-q", "-o", cli_vtu, *cli_options)
+    assert code == 0, err
+    cli = meshio.read(cli_vtu)
+
+    sol = bounce.solve(scene, **py_options)
+    assert sol.converged
+    assert len(sol.radiosity) == len(scene) == len(cell_array(cli, "radiosity"))
+    assert_same(sol.radiosity, cell_array(cli, "radiosity"), "radiosity")
+    assert_same(sol.irradiance, cell_array(cli, "irradiance"), "irradiance")
+    assert_same(sol.point_radiosity, cli.point_data["radiosity"], "point radiosity")
+    assert sol.point_gathered == ("gather" not in py_options)
+    assert int(np.asarray(cli.field_data["steps"]).ravel()[0]) == sol.steps
+    assert_same(sol.absorbed_power, np.asarray(cli.field_data["absorbed_power"]).ravel(), "absorbed power")
+
+    # The module's own .vtu holds the same numbers.
+    own = tmp_path / "own.vtu"
+    sol.write_vtu(own, meshio=True)
+    mine = meshio.read(own)
+    assert_same(cell_array(mine, "radiosity"), cell_array(cli, "radiosity"), "written radiosity")
+    assert_same(mine.point_data["radiosity"], cli.point_data["radiosity"], "written point radiosity")
+
+
+def test_solution_is_consistent(scene):
+    sol = bounce.solve(scene, tolerance=1e-4, gather="none")
+    p = scene.patches
+    # B = E + rho H, patch by patch: catches any array showing the wrong field or stride.
+    np.testing.assert_allclose(sol.radiosity, p.emission + p.reflectance * sol.irradiance, rtol=1e-9, atol=1e-9)
+    # The power account closes: emitted = absorbed + escaped + unshot.
+    np.testing.assert_allclose(sol.emitted_power, sol.absorbed_power + sol.escaped_power + sol.unshot_power,
+                               rtol=1e-9)
+    np.testing.assert_allclose(sol.emitted_power, scene.emitted_power, rtol=1e-12)
+    np.testing.assert_allclose((p.emission * p.area[:, None]).sum(axis=0), scene.emitted_power, rtol=1e-12)
+    h = sol.history
+    assert len(h["step"]) > 0 and np.all(np.diff(h["step"].astype(np.int64)) > 0)
+    assert h["unshot_fraction"][-1] == pytest.approx(sol.unshot_fraction)
+    assert sol.unshot_fraction < 1e-4
+    assert sol.form_factor_seconds == 0 and np.all(h["residual"] == -1)
+
+
+def test_residuals_and_reference_columns(scene):
+    # With the matrix built, shooting logs the relative residual; against a reference solution
+    # it logs the error, which must end at the distance to that reference.
+    ref = bounce.solve(scene, solver="gauss-seidel", tolerance=1e-9, gather="none")
+    sol = bounce.solve(scene, tolerance=1e-3, gather="none", residuals=True, reference=ref.radiosity)
+    h = sol.history
+    assert sol.form_factor_seconds > 0
+    assert np.all(h["residual"] >= 0) and h["residual"][-1] < h["residual"][0]
+    rms = np.linalg.norm(sol.radiosity - ref.radiosity) / np.linalg.norm(ref.radiosity)
+    assert h["rms_error"][-1] == pytest.approx(rms, rel=1e-9)
+
+
+def test_to_meshio_and_render(tmp_path, scene):
+    sol = bounce.solve(scene, tolerance=1e-3, gather="none")
+    m = sol.to_meshio()
+    assert_same(cell_array(m, "radiosity"), sol.radiosity, "meshio radiosity")
+    assert_same(m.points, scene.patches.vertices, "meshio points")
+    out = tmp_path / "cornell.png"
+    sol.render(out, size=(64, 48))
+    import matplotlib.image
+    assert matplotlib.image.imread(out).shape[:2] == (48, 64)
+
+
+@pytest.mark.parametrize(
+    "load_options, py_options, cli_options",
+    [
+        ({"subdivide": False}, {"solver": "hierarchical", "max_level": 1, "gather": "none"},
+         ["--no-subdivide", "--solver", "hierarchical", "--max-level", "1", "--gather", "none"]),
+        ({"patches": 100}, {"adaptive": True, "max_patches": 2000},
+         ["--patches", "100", "--adaptive", "--max-patches", "2000"]),
+    ],
+    ids=["hierarchical", "adaptive-gathered"],
+)
+def test_element_solution_equals_command_line_vtu(tmp_path, run_cli, load_options, py_options, cli_options):
+    cli_vtu = tmp_path / "cli.vtu"
+    code, _, err = run_cli("solve", "--meshio", "-q", "-o", cli_vtu, *cli_options)
+    cli = meshio.read(cli_vtu)
+    scene = bounce.load("cornell", **load_options)
+    sol = bounce.solve(scene, **py_options)
+    assert code == (0 if sol.converged else 3), err
+    # The solution is over the elements it made, not the scene's patches.
+    assert len(sol.radiosity) == len(sol.patches) > len(scene)
+    assert_same(sol.radiosity, cell_array(cli, "radiosity"), "radiosity")
+    assert_same(sol.patches.area, cell_array(cli, "area"), "element areas")
+    assert_same(sol.point_radiosity, cli.point_data["radiosity"], "point radiosity")
+    assert_same(sol.patches.vertices, cli.points, "element vertices")
+    assert sol.patches.area.sum() == pytest.approx(scene.total_area, rel=1e-9)
+    assert sol.patches.area.base is sol
