@@ -16,16 +16,6 @@
 
 namespace bounce::app {
 
-namespace {
-
-std::string number_text(double x) {
-    std::ostringstream t;
-    t << x;
-    return t.str();
-}
-
-}  // namespace
-
 // Both in the one error style of the program: "<option>: <what>, got <value> (expected <range>)".
 const CLI::Validator kPositive(
     [](std::string& v) {

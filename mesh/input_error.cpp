@@ -4,15 +4,12 @@
 #include <sstream>
 
 namespace bounce {
-namespace {
 
 std::string number_text(double x) {
     std::ostringstream t;
     t << x;
     return t.str();
 }
-
-}  // namespace
 
 std::string out_of_range_text(const std::string& value, double lo, double hi) {
     return "out of range, got " + value + " (expected " + number_text(lo) + " to " + number_text(hi) + ")";

@@ -20,6 +20,8 @@ std::string out_of_range_text(const std::string& value, double lo, double hi);
 std::string not_positive_text(const std::string& value);
 /// "not a number, got 'V' (expected LO to HI)".
 std::string not_a_number_text(const std::string& value, double lo, double hi);
+/// A number as messages print it (the stream's default: 1e+08, 0.5).
+std::string number_text(double x);
 
 /// An input file that does not exist (the Python module raises FileNotFoundError for it).
 class MissingFileError : public InputError {
