@@ -63,60 +63,6 @@ void rho099_cube_gives_100(const std::string& method) {
                    1e-4);
 }
 
-}  // namespace
-
-TEST(ExactFurnace, Rho099CubeGives100WithEverySolver) { rho099_cube_gives_100("exact"); }
-
-TEST(ExactFurnace, TJunctionBoxRowsSumToOne) {
-    // A 1 x 1 x 1 box whose floor is cut into 3 strips and whose ceiling into 2 (and the walls
-    // into 3 x 2 uneven cells), so patch edges meet mid-edge (T-junctions). Rows still sum to 1.
-    Scene s;
-    s.name = "t-junction box";
-    s.materials = {{"w", Rgb::gray(0.5), Rgb()}};
-    const auto quad = [&](glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3 d) {
-        s.surfaces.push_back({{a, b, c, d}, 0, "wall", {"test", 0}});
-    };
-    for (int k = 0; k < 3; ++k) {  // floor z = 0 facing +z, 3 strips along x
-        const double x0 = k / 3.0, x1 = (k + 1) / 3.0;
-        quad({x0, 0, 0}, {x1, 0, 0}, {x1, 1, 0}, {x0, 1, 0});
-    }
-    for (int k = 0; k < 2; ++k) {  // ceiling z = 1 facing -z, 2 strips along x
-        const double x0 = k / 2.0, x1 = (k + 1) / 2.0;
-        quad({x0, 0, 1}, {x0, 1, 1}, {x1, 1, 1}, {x1, 0, 1});
-    }
-    // x = 0 facing +x: two cells along y; x = 1 facing -x: three cells along y.
-    for (int k = 0; k < 2; ++k) {
-        const double y0 = k / 2.0, y1 = (k + 1) / 2.0;
-        quad({0, y0, 0}, {0, y1, 0}, {0, y1, 1}, {0, y0, 1});
-    }
-    for (int k = 0; k < 3; ++k) {
-        const double y0 = k / 3.0, y1 = (k + 1) / 3.0;
-        quad({1, y0, 0}, {1, y0, 1}, {1, y1, 1}, {1, y1, 0});
-    }
-    // y = 0 facing +y and y = 1 facing -y, each cut into a 3 x 2 grid (x thirds, z halves).
-    for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 2; ++b) {
-            const double x0 = a / 3.0, x1 = (a + 1) / 3.0, z0 = b / 2.0, z1 = (b + 1) / 2.0;
-            quad({x0, 0, z0}, {x0, 0, z1}, {x1, 0, z1}, {x1, 0, z0});
-            quad({x0, 1, z0}, {x1, 1, z0}, {x1, 1, z1}, {x0, 1, z1});
-        }
-    const PatchMesh mesh(s, MeshingOptions{.subdivide = false});
-    const auto& P = mesh.patches();
-    ASSERT_EQ(P.size(), 22u);
-    const ExactFormFactor ff(P, true, {});
-    double worst = 0;
-    for (std::size_t i = 0; i < P.size(); ++i) {
-        double sum = 0;
-        for (std::size_t j = 0; j < P.size(); ++j) sum += ff.pair(i, j);
-        worst = std::max(worst, std::abs(sum - 1));
-    }
-    std::printf("t-junction box: worst |row sum - 1| %.3g\n", worst);
-    EXPECT_LT(worst, 1e-9);
-    EXPECT_EQ(ff.tally().partial + ff.tally().hidden, 0u);
-}
-
-namespace {
-
 /// The built-in Cornell box closed by a front wall (z = 0, facing in), without its lamp (a
 /// thin one-sided quad 0.1 below the ceiling would leave a slit), the blocks inside; every
 /// surface rho and E given. Contact cuts leave out the floor under the blocks.
@@ -151,7 +97,58 @@ double worst_deviation(const std::vector<double>& sums) {
     return worst;
 }
 
+/// A 1 x 1 x 1 box whose floor is cut into 3 strips and whose ceiling into 2 (and the walls
+/// into 3 x 2 uneven cells), so patch edges meet mid-edge (T-junctions).
+Scene t_junction_box() {
+    Scene s;
+    s.name = "t-junction box";
+    s.materials = {{"w", Rgb::gray(0.5), Rgb()}};
+    const auto quad = [&](glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3 d) {
+        s.surfaces.push_back({{a, b, c, d}, 0, "wall", {"test", 0}});
+    };
+    for (int k = 0; k < 3; ++k) {  // floor z = 0 facing +z, 3 strips along x
+        const double x0 = k / 3.0, x1 = (k + 1) / 3.0;
+        quad({x0, 0, 0}, {x1, 0, 0}, {x1, 1, 0}, {x0, 1, 0});
+    }
+    for (int k = 0; k < 2; ++k) {  // ceiling z = 1 facing -z, 2 strips along x
+        const double x0 = k / 2.0, x1 = (k + 1) / 2.0;
+        quad({x0, 0, 1}, {x0, 1, 1}, {x1, 1, 1}, {x1, 0, 1});
+    }
+    // x = 0 facing +x: two cells along y; x = 1 facing -x: three cells along y.
+    for (int k = 0; k < 2; ++k) {
+        const double y0 = k / 2.0, y1 = (k + 1) / 2.0;
+        quad({0, y0, 0}, {0, y1, 0}, {0, y1, 1}, {0, y0, 1});
+    }
+    for (int k = 0; k < 3; ++k) {
+        const double y0 = k / 3.0, y1 = (k + 1) / 3.0;
+        quad({1, y0, 0}, {1, y0, 1}, {1, y1, 1}, {1, y1, 0});
+    }
+    // y = 0 facing +y and y = 1 facing -y, each cut into a 3 x 2 grid (x thirds, z halves).
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 2; ++b) {
+            const double x0 = a / 3.0, x1 = (a + 1) / 3.0, z0 = b / 2.0, z1 = (b + 1) / 2.0;
+            quad({x0, 0, z0}, {x0, 0, z1}, {x1, 0, z1}, {x1, 0, z0});
+            quad({x0, 1, z0}, {x1, 1, z0}, {x1, 1, z1}, {x0, 1, z1});
+        }
+    return s;
+}
+
 }  // namespace
+
+TEST(ExactFurnace, Rho099CubeGives100WithEverySolver) { rho099_cube_gives_100("exact"); }
+
+TEST(ExactFurnace, TJunctionBoxRowsSumToOne) {
+    // Rows still sum to 1 across the T-junctions.
+    const Scene s = t_junction_box();
+    const PatchMesh mesh(s, MeshingOptions{.subdivide = false});
+    const auto& P = mesh.patches();
+    ASSERT_EQ(P.size(), 22u);
+    const ExactFormFactor ff(P, true, {});
+    const double worst = worst_deviation(row_sums(ff, P));
+    std::printf("t-junction box: worst |row sum - 1| %.3g\n", worst);
+    EXPECT_LT(worst, 1e-9);
+    EXPECT_EQ(ff.tally().partial + ff.tally().hidden, 0u);
+}
 
 TEST(ClosedScenes, DefaultMethodRho099CubeGives100WithEverySolver) {
     // The default method's unoccluded factors are within 1e-6 relative: B within about 1e-4.
@@ -185,18 +182,7 @@ TEST(ClosedScenes, DefaultMethodCubeRowsSumToOneAndAreReciprocal) {
 
 TEST(ClosedScenes, DefaultMethodTJunctionBoxRowsSumToOne) {
     // Patches whose edges meet mid-edge: the near pairs go to the contour integral, exact.
-    Scene s;
-    s.name = "t-junction box";
-    s.materials = {{"w", Rgb::gray(0.5), Rgb()}};
-    const auto quad = [&](glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3 d) {
-        s.surfaces.push_back({{a, b, c, d}, 0, "wall", {"test", 0}});
-    };
-    for (int k = 0; k < 3; ++k) quad({k / 3.0, 0, 0}, {(k + 1) / 3.0, 0, 0}, {(k + 1) / 3.0, 1, 0}, {k / 3.0, 1, 0});
-    for (int k = 0; k < 2; ++k) quad({k / 2.0, 0, 1}, {k / 2.0, 1, 1}, {(k + 1) / 2.0, 1, 1}, {(k + 1) / 2.0, 0, 1});
-    for (int k = 0; k < 2; ++k) quad({0, k / 2.0, 0}, {0, (k + 1) / 2.0, 0}, {0, (k + 1) / 2.0, 1}, {0, k / 2.0, 1});
-    for (int k = 0; k < 3; ++k) quad({1, k / 3.0, 0}, {1, k / 3.0, 1}, {1, (k + 1) / 3.0, 1}, {1, (k + 1) / 3.0, 0});
-    quad({0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0});
-    quad({0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1});
+    const Scene s = t_junction_box();
     MeshingOptions o;
     o.max_edge = 0.26;  // cut further, unevenly against the strips
     const PatchMesh mesh(s, o);
