@@ -33,8 +33,6 @@ struct Patch {
     std::string to_string() const;
 };
 
-/// True when no vertex of `q` is strictly in front of `p`: p cannot send power to q (and, by
-/// reciprocity, q none to p). The tolerance absorbs rounding of coplanar neighbours.
 /// Largest distance of a vertex from the patch's centre: a sphere about the centre with this
 /// radius holds the patch (separation tests of form-factor rules).
 inline double circumradius(const Patch& p) {
@@ -43,6 +41,17 @@ inline double circumradius(const Patch& p) {
     return r;
 }
 
+/// True when no vertex of `q` lies below `p`'s plane (a vertex within 1e-9 sqrt(A_q) of it
+/// counts as on it): q is wholly in front of p, so no part of q needs clipping against p.
+inline bool wholly_in_front(const Patch& p, const Patch& q) {
+    const double below = -1e-9 * std::sqrt(q.area);
+    for (int k = 0; k < q.vertex_count; ++k)
+        if (p.height(q.vertices[k]) < below) return false;
+    return true;
+}
+
+/// True when no vertex of `q` is strictly in front of `p`: p cannot send power to q (and, by
+/// reciprocity, q none to p). The tolerance absorbs rounding of coplanar neighbours.
 inline bool wholly_behind(const Patch& p, const Patch& q) {
     const double tol = 1e-12 * std::sqrt(p.area + q.area);
     for (int k = 0; k < q.vertex_count; ++k)

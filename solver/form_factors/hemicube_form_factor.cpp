@@ -76,6 +76,7 @@ void HemicubeFormFactor::compute_row(std::size_t i, std::span<float> row) const 
     for (int fi = 0; fi < 5; ++fi) {
         const CubeFace& face = faces[fi];
         const int rows = fi == 0 ? r : r / 2;
+        const std::vector<double>& delta = fi == 0 ? m_top_delta : m_side_delta;
         const double h = 2.0 / r;
         depth.assign(std::size_t(r) * rows, std::numeric_limits<double>::infinity());
         item.assign(std::size_t(r) * rows, -1);
@@ -130,7 +131,6 @@ void HemicubeFormFactor::compute_row(std::size_t i, std::span<float> row) const 
             const double num = glm::dot(nj, cam[0]);
             // A patch seen from behind still occludes, but receives nothing (one-sided).
             const int id = num < 0 ? int(j) : -2;
-            const std::vector<double>& delta = fi == 0 ? m_top_delta : m_side_delta;
             for (int by = by0; by <= by1; ++by) {
                 const double y = face.ylo + (by + 0.5) * h;
                 for (int ax = ax0; ax <= ax1; ++ax) {
@@ -155,7 +155,6 @@ void HemicubeFormFactor::compute_row(std::size_t i, std::span<float> row) const 
                 }
             }
         }
-        const std::vector<double>& delta = fi == 0 ? m_top_delta : m_side_delta;
         for (std::size_t px = 0; px < item.size(); ++px)
             if (item[px] >= 0) f[item[px]] += delta[px];
     }

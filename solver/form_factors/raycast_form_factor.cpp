@@ -38,8 +38,8 @@ RaycastFormFactor::RaycastFormFactor(const std::vector<Patch>& patches, const Vi
       m_options(options),
       m_unoccluded(patches, options.unoccluded_tolerance) {
     if (options.visibility_rays < 1) throw std::invalid_argument("visibility rays must be at least 1");
-    if (!(options.unoccluded_tolerance > 0) || options.receiver_samples < 0)
-        throw std::invalid_argument("form-factor tolerance and receiver samples must be positive");
+    // (m_unoccluded has checked the tolerance.)
+    if (options.receiver_samples < 0) throw std::invalid_argument("receiver samples must not be negative");
 }
 
 double RaycastFormFactor::visible_fraction(std::size_t i, std::size_t j) const {
@@ -114,10 +114,7 @@ double RaycastFormFactor::directed(std::size_t i, std::size_t j) const {
     const int n = m_options.receiver_samples;
     thread_local std::vector<AreaSample> samples;
     double fji = 0.0;
-    bool straddles = false;
-    const double below = -1e-9 * std::sqrt(r.area);  // rounding: a vertex on the plane is not below it
-    for (int k = 0; k < r.vertex_count; ++k) straddles |= s.height(r.vertices[k]) < below;
-    if (!straddles) {
+    if (wholly_in_front(s, r)) {
         patch_quadrature(r, n, samples);
         for (const auto& q : samples) fji += q.weight * point_polygon_form_factor(q.point, r.normal, s.polygon());
     } else {

@@ -41,19 +41,14 @@ double UnoccludedFormFactor::operator()(std::size_t from, std::size_t to) const 
     const double tol = m_tolerance;
     // Only whole pairs in front of each other suit the product rule; one that straddles the
     // other's plane is clipped first (polygon_form_factor does that).
-    const auto in_front = [](const Patch& p, const Patch& q) {
-        const double below = -1e-9 * std::sqrt(q.area);
-        for (int k = 0; k < q.vertex_count; ++k)
-            if (p.height(q.vertices[k]) < below) return false;
-        return true;
-    };
     const double ra = circumradius(a), rb = circumradius(b);
     const double gap = glm::length(b.centre - a.centre) - ra - rb;
     const int na = separated_gauss_order(gap, ra, tol);
     const int nb = separated_gauss_order(gap, rb, tol);
     // Near pairs (high predicted orders) cost less by the point-to-polygon kernel or, when
     // touching, the contour integral; both are in polygon_form_factor.
-    if (na == 0 || nb == 0 || na > kCachedOrders || nb > kCachedOrders || !in_front(a, b) || !in_front(b, a))
+    if (na == 0 || nb == 0 || na > kCachedOrders || nb > kCachedOrders || !wholly_in_front(a, b) ||
+        !wholly_in_front(b, a))
         return polygon_form_factor(a.polygon(), a.normal, b.polygon(), b.normal, tol);
     thread_local std::vector<AreaSample> qa, qb;
     return separated_form_factor(gauss_points(from, na, qa), a.normal, gauss_points(to, nb, qb), b.area, b.normal);
