@@ -1,16 +1,46 @@
 // SPDX-License-Identifier: MIT
-// bounce info: the scene's surfaces, patches, area and emitted power.
+// bounce info: the scene's surfaces, patches, area and emitted power; with --row-sums, how far
+// the form-factor rows of a closed scene are from 1, and how much of that partial visibility
+// explains.
 #include <iostream>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "app/command.h"
+#include "app/progress_line.h"
+#include "app/signals.h"
 #include "mesh/patch_mesh.h"
 #include "mesh/polygon.h"
+#include "solver/form_factors/form_factor_check.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/visibility/shaft_culler.h"
+#include "solver/visibility/visibility.h"
 
 namespace bounce::app {
 namespace {
 
-int run_info(const CommonOptions& o) {
+struct InfoCommand {
+    bool row_sums = false;
+    std::string method = "raycast";
+    FormFactorOptions ff;
+};
+
+/// Rows computed one at a time and summed (memory O(N), unlike `form-factors --check`).
+void print_row_sums(const CommonOptions& o, const InfoCommand& c, const std::vector<Patch>& P) {
+    check_form_factor_memory(o, c.method, c.ff);
+    const auto visibility = make_visibility(o.visibility, P);
+    const auto ff = make_form_factor_estimator(c.method, P, visibility.get(), c.ff);
+    const ShaftCuller culler(P);
+    ProgressLine progress(!o.quiet);
+    const FormFactorCheck check = check_row_sums(
+        P, *ff, &culler, [&](std::size_t d, std::size_t t) { progress.rows(d, t); }, &g_interrupted);
+    progress.finish();
+    std::cout << "form factors:   " << c.method << " (" << check.row_sums.size() << " of " << P.size() << " rows)\n"
+              << row_sum_report(check);
+}
+
+int run_info(const CommonOptions& o, const InfoCommand& c) {
     Scene scene;
     PatchMesh mesh = load_and_mesh(o, o.scene, scene);
     const Rgb e = mesh.emitted_power();
@@ -37,7 +67,8 @@ int run_info(const CommonOptions& o) {
                   << (m.emission.max() > 0 ? " (emits " + m.emission.to_string() + ")" : "") << "  "
                   << describe(f.where, f.object) << "\n";
     }
-    return 0;
+    if (c.row_sums) print_row_sums(o, c, mesh.patches());
+    return interrupted_exit_code();
 }
 
 }  // namespace
@@ -46,7 +77,14 @@ Command add_info_command(CLI::App& app, CommonOptions& common) {
     auto* info_cmd = app.add_subcommand(
         "info", "print the scene's summary, then every surface: patches, area, material and where it came from");
     add_meshing_options(info_cmd, common);
-    return {info_cmd, [&common] { return run_info(common); }};
+    auto ic = std::make_shared<InfoCommand>();
+    info_cmd->add_flag("--row-sums", ic->row_sums,
+                       "compute every form-factor row and print how far the sums are from 1 (closed scenes), "
+                       "split by partially visible pairs");
+    info_cmd->add_option("--method", ic->method, "form factors for --row-sums: raycast, exact, analytic or hemicube")
+        ->check(CLI::IsMember(form_factor_methods()));
+    add_form_factor_options(info_cmd, ic->ff);
+    return {info_cmd, [&common, ic] { return run_info(common, *ic); }};
 }
 
 }  // namespace bounce::app

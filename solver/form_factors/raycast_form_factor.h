@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -9,6 +10,8 @@
 #include "solver/form_factors/form_factor_estimator.h"
 
 namespace bounce {
+
+class ShaftCuller;
 
 /// Ray-cast form factors in the manner of Wallace, Elmquist and Haines (1989): the unoccluded
 /// factor between the two patches times the fraction of stratified rays between them that no
@@ -24,10 +27,13 @@ namespace bounce {
 /// take the point-to-polygon kernel instead (a fixed rule, for studies of sampling error).
 /// The rays of a pair depend only on (seed, min(i,j), max(i,j)), so the visible fraction is
 /// the same both ways round. With no visibility (the "analytic" method) rays are skipped.
+/// Before any ray, a shaft test (ShaftCuller) lists the pair's candidate blockers; a pair with
+/// none is wholly visible and casts no rays (in an empty convex room, no pair does).
 class RaycastFormFactor final : public FormFactorEstimator {
 public:
     RaycastFormFactor(const std::vector<Patch>& patches, const Visibility* visibility,
                       const FormFactorOptions& options);
+    ~RaycastFormFactor() override;
     std::string name() const override { return m_visibility ? "raycast" : "analytic"; }
     void compute_row(std::size_t i, std::span<float> row) const override;
     void compute_row(std::size_t i, std::span<float> row, std::span<const std::uint8_t> known) const override;
@@ -51,6 +57,7 @@ private:
     const Visibility* m_visibility;
     FormFactorOptions m_options;
     UnoccludedFormFactor m_unoccluded;
+    std::unique_ptr<ShaftCuller> m_culler;  // with visibility only
 };
 
 /// Rows from patches to elements, for shooting with an ElementHierarchy: row i holds

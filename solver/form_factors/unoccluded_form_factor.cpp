@@ -16,12 +16,23 @@ UnoccludedFormFactor::UnoccludedFormFactor(const std::vector<Patch>& patches, do
     if (!(tolerance > 0)) throw std::invalid_argument("form-factor tolerance must be positive");
     // Gauss points of orders 1..kCachedOrders per patch, end to end: far pairs need only these.
     m_points.reserve(patches.size() * kCachedPoints);
+    m_radius.reserve(patches.size());
+    for (int n = 1; n <= kCachedOrders; ++n) m_rho_needed[std::size_t(n)] = std::pow(1.0 / tolerance, 1.0 / (2.0 * n));
     thread_local std::vector<AreaSample> q;
     for (const Patch& p : patches)
         for (int n = 1; n <= kCachedOrders; ++n) {
             patch_quadrature(p, n, q);
             m_points.insert(m_points.end(), q.begin(), q.end());
         }
+    for (const Patch& p : patches) m_radius.push_back(circumradius(p));
+}
+
+int UnoccludedFormFactor::cached_order(double gap, double radius) const {
+    if (!(gap > 0.0) || !(radius > 0.0)) return 0;
+    const double g = gap / radius, rho = g + std::sqrt(g * g + 1.0);
+    for (int n = 1; n <= kCachedOrders; ++n)
+        if (rho >= m_rho_needed[std::size_t(n)]) return n;
+    return kCachedOrders + 1;
 }
 
 std::span<const AreaSample> UnoccludedFormFactor::gauss_points(std::size_t patch, int n,
@@ -41,10 +52,10 @@ double UnoccludedFormFactor::operator()(std::size_t from, std::size_t to) const 
     const double tol = m_tolerance;
     // Only whole pairs in front of each other suit the product rule; one that straddles the
     // other's plane is clipped first (polygon_form_factor does that).
-    const double ra = circumradius(a), rb = circumradius(b);
+    const bool cached = std::max(from, to) < m_radius.size();
+    const double ra = cached ? m_radius[from] : circumradius(a), rb = cached ? m_radius[to] : circumradius(b);
     const double gap = glm::length(b.centre - a.centre) - ra - rb;
-    const int na = separated_gauss_order(gap, ra, tol);
-    const int nb = separated_gauss_order(gap, rb, tol);
+    const int na = cached_order(gap, ra), nb = cached_order(gap, rb);
     // Near pairs (high predicted orders) cost less by the point-to-polygon kernel or, when
     // touching, the contour integral; both are in polygon_form_factor.
     if (na == 0 || nb == 0 || na > kCachedOrders || nb > kCachedOrders || !wholly_in_front(a, b) ||

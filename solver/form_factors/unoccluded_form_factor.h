@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <array>
 #include <span>
 #include <vector>
 
@@ -32,9 +33,15 @@ private:
     static constexpr int kCachedOrders = 4;
     static constexpr std::size_t kCachedPoints = 1 + 4 + 9 + 16;
 
+    /// The order separated_gauss_order gives, capped at kCachedOrders + 1, without a logarithm:
+    /// order n suffices when rho^(2n) >= 1/tol, rho = g + sqrt(g^2 + 1), g = gap / radius.
+    int cached_order(double gap, double radius) const;
+
     const std::vector<Patch>& m_patches;
     double m_tolerance;
-    std::vector<AreaSample> m_points;  // kCachedPoints per patch: orders 1, 2, .. kCachedOrders
+    std::vector<AreaSample> m_points;                      // kCachedPoints per patch: orders 1, 2, .. kCachedOrders
+    std::vector<double> m_radius;                          // circumradius per cached patch
+    std::array<double, kCachedOrders + 1> m_rho_needed{};  // [n]: the smallest rho order n serves
 };
 
 }  // namespace bounce

@@ -102,6 +102,30 @@ void ShaftCuller::build(std::uint32_t node, std::uint32_t begin, std::uint32_t e
     build(left + 1, mid, end);
 }
 
+bool ShaftCuller::beside(const Group& g, const glm::dvec3* pts, int np) const {
+    // The whole shaft on one side of the group's plane (or on it, within the tolerance less
+    // the members' spread about the plane): nothing in the group blocks.
+    bool pos = true, neg = true;
+    for (int m = 0; m < np; ++m) {
+        const double h = glm::dot(g.normal, pts[m]) - g.offset;
+        pos &= h >= g.spread - m_tol;
+        neg &= h <= m_tol - g.spread;
+    }
+    return pos || neg;
+}
+
+bool ShaftCuller::clear(std::size_t i, std::size_t j) const {
+    const Patch& p = m_patches[i];
+    const Patch& q = m_patches[j];
+    std::array<glm::dvec3, 8> pts;
+    int np = 0;
+    for (int k = 0; k < p.vertex_count; ++k) pts[np++] = p.vertices[k];
+    for (int k = 0; k < q.vertex_count; ++k) pts[np++] = q.vertices[k];
+    for (const Group& g : m_groups)
+        if (!beside(g, pts.data(), np)) return false;
+    return true;
+}
+
 void ShaftCuller::candidates(std::size_t i, std::size_t j, std::vector<std::uint32_t>& out) const {
     out.clear();
     if (m_patches.empty()) return;
@@ -147,17 +171,8 @@ void ShaftCuller::candidates(std::size_t i, std::size_t j, std::vector<std::uint
     thread_local std::vector<std::uint32_t> stack;
     stack.resize(m_groups.size() + 64);
     int top = 0;
-    for (const Group& g : m_groups) {
-        // The whole shaft on one side of the group's plane (or on it, within the tolerance
-        // less the members' spread about the plane): nothing in the group blocks.
-        bool pos = true, neg = true;
-        for (int m = 0; m < np; ++m) {
-            const double h = glm::dot(g.normal, pts[m]) - g.offset;
-            pos &= h >= g.spread - tol;
-            neg &= h <= tol - g.spread;
-        }
-        if (!(pos || neg)) stack[top++] = g.root;
-    }
+    for (const Group& g : m_groups)
+        if (!beside(g, pts.data(), np)) stack[top++] = g.root;
     if (top == 0) return;  // every plane group is beside the shaft (an empty convex room)
     add_edge_planes(p, q);
     add_edge_planes(q, p);

@@ -28,6 +28,11 @@ public:
 
     /// Replaces `out` with the candidate blockers of the pair (i, j) (neither i nor j).
     void candidates(std::size_t i, std::size_t j, std::vector<std::uint32_t>& out) const;
+    /// The first, cheap stage of `candidates` alone: true when every plane group lies beside
+    /// the pair's shaft, so nothing can block it. A false answer proves nothing (the full test
+    /// may still find no candidate); it costs a few dot products per plane of the scene, while
+    /// the full test walks the tree and can cost a hundred rays' worth in cluttered scenes.
+    bool clear(std::size_t i, std::size_t j) const;
     const std::vector<Patch>& patches() const { return m_patches; }
 
 private:
@@ -45,6 +50,8 @@ private:
         double spread;       // the members' largest distance from that plane
     };
     void build(std::uint32_t node, std::uint32_t begin, std::uint32_t end);
+    /// True when the points (the pair's vertices) lie on one side of g's plane, beyond its spread.
+    bool beside(const Group& g, const glm::dvec3* pts, int np) const;
 
     const std::vector<Patch>& m_patches;
     std::vector<glm::dvec3> m_lo, m_hi;  // per-patch boxes

@@ -211,6 +211,27 @@ TEST(Cli, FormFactorsWritesTheMatrixAndChecksIt) {
     }
 }
 
+TEST(Cli, InfoRowSumsReportsTheDeviationOfAClosedBox) {
+    // The inward unit box cut 4 x 4: rows streamed one at a time, every sum 1 to the unoccluded
+    // tolerance, and no pair partially visible.
+    test::TempDir dir;
+    const auto scene = dir.write("box.json", R"({"materials": {"w": {"reflectance": 0.5, "emission": 1}},
+        "objects": [{"type": "box", "material": "w", "inward": true}]})");
+    const auto r = bounce_run("info " + scene.string() + " --max-edge 0.25 --row-sums --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("(96 of 96 rows)"), std::string::npos) << r.out;
+    double lo, mean, hi;
+    const auto at = r.out.find("row-sum deviation");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + at, "row-sum deviation |sum_j F_ij - 1| (closed scenes): min %lf, mean %lf, max %lf",
+                          &lo, &mean, &hi),
+              3)
+        << r.out;
+    EXPECT_LT(hi, 1e-6);
+    EXPECT_LE(lo, mean);
+    EXPECT_NE(r.out.find("partially visible pairs (a candidate blocker in the shaft): 0,"), std::string::npos) << r.out;
+}
+
 TEST(Cli, ATooLargeMatrixIsRefusedWithExitTwo) {
     test::TempDir dir;
     const auto r = bounce_run("form-factors --max-area 50 --max-matrix-mb 64 -o " + (dir / "F.csv").string());

@@ -4,14 +4,17 @@
 // examples/form_factor_accuracy (see its CSV), rounded up.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "mesh/patch_mesh.h"
 #include "mesh/validation_scenes.h"
+#include "solver/form_factors/form_factor_check.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/reference_form_factors.h"
 #include "solver/form_factors/surface_form_factor.h"
+#include "solver/visibility/shaft_culler.h"
 #include "solver/visibility/visibility.h"
 
 using namespace bounce;
@@ -30,7 +33,8 @@ std::vector<Table> validation_tables() {
     for (auto [a, b, c] : {std::tuple{1.0, 1.0, 1.0}, {2.0, 1.0, 1.0}, {1.0, 1.0, 0.5}, {1.0, 1.0, 2.0}})
         t.push_back({"parallel", parallel_pair(a, b, c), parallel_rectangles(a, b, c), std::max(a, b), 0});
     for (auto [h, w, l] : {std::tuple{1.0, 1.0, 1.0}, {2.0, 1.0, 1.0}, {1.0, 2.0, 1.0}, {1.0, 1.0, 0.5}})
-        t.push_back({"perpendicular", perpendicular_pair(h, w, l), perpendicular_rectangles(h, w, l), std::max({h, w, l}), 1});
+        t.push_back(
+            {"perpendicular", perpendicular_pair(h, w, l), perpendicular_rectangles(h, w, l), std::max({h, w, l}), 1});
     for (auto [r1, r2, h] : {std::tuple{1.0, 1.0, 1.0}, {0.5, 1.0, 1.0}, {1.0, 2.0, 0.5}})
         t.push_back({"disks", coaxial_disks_scene(r1, r2, h), coaxial_disks(r1, r2, h), 2 * std::max(r1, r2), 2});
     return t;
@@ -123,7 +127,8 @@ TEST(FormFactorMethods, CoarseHemicubeAliasesOnSmallFarPatchesAndJitterHelps) {
 TEST(FormFactorMethods, HemicubeSeesABlockerCoverHalfTheView) {
     // As in the ray-cast test: a plate at z = 0.5 over x < 0.5 halves F by symmetry.
     Scene s = parallel_pair(1, 1, 1);
-    s.surfaces.push_back({{{-10, -10, 0.5}, {0.5, -10, 0.5}, {0.5, 10, 0.5}, {-10, 10, 0.5}}, 0, "blocker", {"test", 0}});
+    s.surfaces.push_back(
+        {{{-10, -10, 0.5}, {0.5, -10, 0.5}, {0.5, 10, 0.5}, {-10, 10, 0.5}}, 0, "blocker", {"test", 0}});
     MeshingOptions o;
     o.max_edge = 1.0 / 16 * (1 + 1e-9);
     const PatchMesh mesh(s, o);
@@ -208,4 +213,51 @@ TEST(FormFactorMethods, BaumHemicubeIsReciprocalAndKeepsRowsInAClosedCube) {
     EXPECT_LT(baum_recip, 1e-5);
     EXPECT_LT(baum_rows, 1e-6);
     EXPECT_LT(classic_rows, 5e-4);
+}
+
+TEST(FormFactorCheck, ClosedBoxRowSumsSplitByPartialVisibility) {
+    // An empty cube (6 x 6 per face): no pair is partially visible and every row is 1 to the
+    // unoccluded tolerance. A closed solid cube floating inside adds partially visible pairs;
+    // the rows that hold none keep that accuracy. Streaming the rows (info --row-sums) gives
+    // the matrix's row sums.
+    MeshingOptions o;
+    o.max_edge = 1.0 / 6 * (1 + 1e-9);
+    const PatchMesh empty(closed_box({1, 1, 1}, {"w", Rgb::gray(0.5), Rgb::gray(0)}), o);
+    const ShaftCuller empty_culler(empty.patches());
+    const auto vis = make_visibility("embree", empty.patches());
+    const auto ff = make_form_factor_estimator("raycast", empty.patches(), vis.get(), {});
+    const auto F = FormFactorMatrix::build(*ff, empty.size(), std::size_t(1) << 30);
+    const FormFactorCheck c = check_form_factors(empty.patches(), F, &empty_culler);
+    EXPECT_TRUE(c.split_by_visibility);
+    EXPECT_EQ(c.partial_pairs, 0u);
+    EXPECT_EQ(c.rows_with_partial, 0u);
+    EXPECT_LT(c.deviation_max_clear, 1e-6);
+    EXPECT_EQ(c.deviation_max_clear, c.deviation_max);
+
+    Scene s = closed_box({1, 1, 1}, {"w", Rgb::gray(0.5), Rgb::gray(0)});
+    // A solid cube [0.4, 0.6]^3 with outward faces: the inward box's faces, reversed.
+    for (auto f : closed_box({0.2, 0.2, 0.2}, {}).surfaces) {
+        std::reverse(f.vertices.begin(), f.vertices.end());
+        for (auto& v : f.vertices) v += glm::dvec3(0.4);
+        s.surfaces.push_back(f);
+    }
+    const PatchMesh cluttered(s, o);
+    const auto& P = cluttered.patches();
+    const ShaftCuller culler(P);
+    const auto vis2 = make_visibility("embree", P);
+    const auto ff2 = make_form_factor_estimator("raycast", P, vis2.get(), {});
+    const auto F2 = FormFactorMatrix::build(*ff2, P.size(), std::size_t(1) << 30);
+    const FormFactorCheck m = check_form_factors(P, F2, &culler);
+    EXPECT_GT(m.partial_pairs, 0u);
+    EXPECT_GT(m.rows_with_partial, 0u);
+    EXPECT_LT(m.rows_with_partial, P.size());
+    EXPECT_GT(m.partial_share, 0.01);
+    EXPECT_LT(m.deviation_max_clear, 1e-6);
+    EXPECT_GT(m.deviation_max_partial, m.deviation_max_clear);
+    const FormFactorCheck r = check_row_sums(P, *ff2, &culler);
+    ASSERT_EQ(r.row_sums.size(), P.size());
+    EXPECT_FALSE(r.reciprocity_checked);
+    EXPECT_EQ(r.partial_pairs, m.partial_pairs);
+    EXPECT_EQ(r.rows_with_partial, m.rows_with_partial);
+    for (std::size_t i = 0; i < P.size(); ++i) EXPECT_NEAR(r.row_sums[i], m.row_sums[i], 1e-6) << i;
 }

@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <memory>
 
 #include "mesh/patch_mesh.h"
 #include "mesh/validation_scenes.h"
 #include "solver/form_factors/form_factor_estimator.h"
+#include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/raycast_form_factor.h"
 #include "solver/form_factors/reference_form_factors.h"
 #include "solver/form_factors/surface_form_factor.h"
@@ -215,4 +218,49 @@ TEST(Visibility, ARayStartingAtAPerpendicularWallIsNotBlockedByIt) {
         // A real blocker near the far end is still found.
         EXPECT_TRUE(vis->occluded({0.5, 0.5, 0.5}, {0.5, 0.5, 1.5}));
     }
+}
+
+namespace {
+
+/// Counts the segments traced through an inner backend.
+class CountingVisibility final : public Visibility {
+public:
+    explicit CountingVisibility(std::unique_ptr<Visibility> inner) : m_inner(std::move(inner)) {}
+    bool occluded(const glm::dvec3& a, const glm::dvec3& b) const override {
+        ++segments;
+        return m_inner->occluded(a, b);
+    }
+    void occluded(std::span<const Segment> s, std::span<std::uint8_t> blocked) const override {
+        segments += s.size();
+        m_inner->occluded(s, blocked);
+    }
+    std::string name() const override { return "counting " + m_inner->name(); }
+    mutable std::atomic<std::size_t> segments{0};
+
+private:
+    std::unique_ptr<Visibility> m_inner;
+};
+
+}  // namespace
+
+TEST(RaycastFormFactor, AnEmptyConvexRoomCastsNoRaysAndABlockedSceneDoes) {
+    // Every plane of an empty box lies beside every pair's shaft (ShaftCuller::clear), so no
+    // ray is needed; with a blocker between two plates the pairs behind it still trace rays.
+    MeshingOptions o;
+    o.max_edge = 1.0 / 6 * (1 + 1e-9);
+    const PatchMesh box(closed_box({1, 1, 1}, {"w", Rgb::gray(0.5), Rgb::gray(0)}), o);
+    const CountingVisibility in_box(make_visibility("embree", box.patches()));
+    const auto ff = make_form_factor_estimator("raycast", box.patches(), &in_box, {});
+    const auto F = FormFactorMatrix::build(*ff, box.size(), std::size_t(1) << 30);
+    EXPECT_EQ(in_box.segments.load(), 0u);
+    for (const double s : F.row_sums()) EXPECT_NEAR(s, 1.0, 1e-6);
+
+    Scene s = parallel_pair(1, 1, 1);
+    s.surfaces.push_back(
+        {{{0.1, 0.2, 0.4}, {0.6, 0.2, 0.4}, {0.6, 0.55, 0.4}, {0.1, 0.55, 0.4}}, 0, "blocker", {"t", 0}});
+    const PatchMesh plates(s, MeshingOptions{.subdivide = false});
+    const CountingVisibility between(make_visibility("embree", plates.patches()));
+    const RaycastFormFactor rf(plates.patches(), &between, {});
+    EXPECT_LT(rf.visible_fraction(0, 1), 1.0);
+    EXPECT_GT(between.segments.load(), 0u);
 }
