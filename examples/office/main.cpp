@@ -738,7 +738,7 @@ void write_office(const Office& o, const std::filesystem::path& path, long reque
 int main(int argc, char** argv) {
     CLI::App app{"bounce-office: writes an open-plan office (OBJ + MTL) of about N triangles for bounce"};
     long triangles = 10000;
-    std::uint64_t seed = 1;
+    long long seed = 1;
     std::string out = "office.obj";
     bool quiet = false;
     app.add_option("--triangles,-n", triangles, "triangles to write (the result is within 5 of it)");
@@ -755,12 +755,13 @@ int main(int argc, char** argv) {
     try {
         if (triangles <= 0 || triangles > 50'000'000)
             throw std::invalid_argument("--triangles must be between 1 and 50000000, got " + std::to_string(triangles));
+        if (seed < 0) throw std::invalid_argument("--seed must be 0 or more, got " + std::to_string(seed));
         const std::filesystem::path path(out);
         if (path.extension() != ".obj")
             throw std::invalid_argument("-o must name a .obj file, got '" + out + "'");
         const auto t0 = std::chrono::steady_clock::now();
-        const Office o = build_for(triangles, seed);
-        write_office(o, path, triangles, seed);
+        const Office o = build_for(triangles, std::uint64_t(seed));
+        write_office(o, path, triangles, std::uint64_t(seed));
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (!quiet)
             std::printf("%s: %zu triangles (asked %ld), room %.1f x %.1f x %.1f m, %d desks, %d chairs, %d bookcases, "
