@@ -30,10 +30,10 @@
 #include <system_error>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
-#include <CLI/CLI.hpp>
 
 namespace {
 
@@ -44,7 +44,8 @@ constexpr double kPi = 3.14159265358979323846;
 struct Rng {
     std::uint64_t state;
     Rng(std::uint64_t seed, std::uint64_t kind, std::uint64_t index)
-        : state(seed * 0x9E3779B97F4A7C15ull ^ (kind + 1) * 0xBF58476D1CE4E5B9ull ^ (index + 1) * 0x94D049BB133111EBull) {
+        : state(seed * 0x9E3779B97F4A7C15ull ^ (kind + 1) * 0xBF58476D1CE4E5B9ull ^
+                (index + 1) * 0x94D049BB133111EBull) {
         next();
     }
     std::uint64_t next() {
@@ -63,8 +64,25 @@ struct MaterialDef {
     glm::dvec3 kd, ke;
 };
 enum Mat {
-    kWall, kCeiling, kFloor, kWindow, kPanel, kFrame, kDoor, kDeskTop, kMetal, kPedestal, kChair, kMonitor,
-    kKeyboard, kShelf, kStorageBox, kPot, kLeaves, kMug, kBook0
+    kWall,
+    kCeiling,
+    kFloor,
+    kWindow,
+    kPanel,
+    kFrame,
+    kDoor,
+    kDeskTop,
+    kMetal,
+    kPedestal,
+    kChair,
+    kMonitor,
+    kKeyboard,
+    kShelf,
+    kStorageBox,
+    kPot,
+    kLeaves,
+    kMug,
+    kBook0
 };
 constexpr int kBookColours = 8;
 const std::vector<MaterialDef>& materials() {
@@ -176,14 +194,15 @@ void loft(Mesh& mesh, const Frame& f, const std::vector<Level>& levels, int m, b
     for (std::size_t l = 0; l < levels.size(); ++l) {
         const Ring& r = levels[l].ring;
         const bool apex = glm::length(r[0]) == 0.0;
-        for (std::size_t i = 0; i < (apex ? 1 : n); ++i) idx[l].push_back(mesh.vertex(f.point({r[i].x, levels[l].y, r[i].y})));
+        for (std::size_t i = 0; i < (apex ? 1 : n); ++i)
+            idx[l].push_back(mesh.vertex(f.point({r[i].x, levels[l].y, r[i].y})));
     }
     for (std::size_t l = 0; l + 1 < levels.size(); ++l)
         for (std::size_t i = 0; i < n; ++i) {
             if (skip_sides & (1u << i)) continue;
             const std::size_t j = (i + 1) % n;
-            const glm::dvec2 mid = 0.25 * (levels[l].ring[i] + levels[l].ring[j] + levels[l + 1].ring[i] +
-                                           levels[l + 1].ring[j]);
+            const glm::dvec2 mid =
+                0.25 * (levels[l].ring[i] + levels[l].ring[j] + levels[l + 1].ring[i] + levels[l + 1].ring[j]);
             const glm::dvec3 out = f.dir({mid.x, 0.0, mid.y});
             const auto& lo = idx[l];
             const auto& hi = idx[l + 1];
@@ -261,22 +280,22 @@ Detail detail_for(long triangles) {
 }
 
 // The room's plan for a number of desk pairs.
-constexpr double kHeight = 3.0;           // floor to ceiling
+constexpr double kHeight = 3.0;  // floor to ceiling
 constexpr double kDeskW = 1.6, kDeskD = 0.8, kDeskY = 0.72, kDeskT = 0.03;
-constexpr double kPairGap = 0.02;         // between the backs of two facing desks, and desk ends
-constexpr double kChairOffset = 0.36;     // chair centre in front of the desk's front edge
-constexpr double kBenchPairs = 3;         // desk pairs side by side in one bench
+constexpr double kPairGap = 0.02;      // between the backs of two facing desks, and desk ends
+constexpr double kChairOffset = 0.36;  // chair centre in front of the desk's front edge
+constexpr double kBenchPairs = 3;      // desk pairs side by side in one bench
 constexpr double kAisleX = 1.5, kAisleZ = 1.2;
 constexpr double kCaseW = 0.9, kCaseD = 0.35, kCaseH = 2.0, kCaseGap = 0.01;
-constexpr double kWalkway = 1.2;          // between the bookcases and the desks
-constexpr double kDoorSide = 1.6;         // between the door wall and the first bench
+constexpr double kWalkway = 1.2;   // between the bookcases and the desks
+constexpr double kDoorSide = 1.6;  // between the door wall and the first bench
 constexpr double kCabinetD = 0.45, kCabinetH = 0.75, kWindowSide = 1.2;
 
 struct Plan {
     int pairs = 1;
     int cols = 1, rows = 1;  // benches along x, along z
     double width = 0, depth = 0;
-    double bench_z = 0;     // depth of a bench with its chairs
+    double bench_z = 0;  // depth of a bench with its chairs
 };
 Plan plan_for(int pairs) {
     Plan p;
@@ -325,8 +344,9 @@ struct Rect {
 void room(Mesh& mesh, const Plan& p) {
     const double W = p.width, D = p.depth, H = kHeight;
     mesh.begin("room.floor");
-    tiled(mesh, {0, W}, {0, D}, {0, 1, 0}, [](double u, double v) { return glm::dvec3(u, 0, v); },
-          [](double, double) { return int(kFloor); });
+    tiled(
+        mesh, {0, W}, {0, D}, {0, 1, 0}, [](double u, double v) { return glm::dvec3(u, 0, v); },
+        [](double, double) { return int(kFloor); });
     // Ceiling: 1.2 x 0.6 m light panels over the desks, every 2.4 m.
     std::vector<Rect> panels;
     for (double x = 2.4; x + 1.2 <= W - 1.0; x += 2.4)
@@ -334,12 +354,13 @@ void room(Mesh& mesh, const Plan& p) {
     std::vector<double> us = {0, W}, vs = {0, D};
     for (const Rect& r : panels) us.insert(us.end(), {r.u0, r.u1}), vs.insert(vs.end(), {r.v0, r.v1});
     mesh.begin("room.ceiling");
-    tiled(mesh, us, vs, {0, -1, 0}, [H](double u, double v) { return glm::dvec3(u, H, v); },
-          [&panels](double u, double v) {
-              for (const Rect& r : panels)
-                  if (r.contains(u, v)) return int(kPanel);
-              return int(kCeiling);
-          });
+    tiled(
+        mesh, us, vs, {0, -1, 0}, [H](double u, double v) { return glm::dvec3(u, H, v); },
+        [&panels](double u, double v) {
+            for (const Rect& r : panels)
+                if (r.contains(u, v)) return int(kPanel);
+            return int(kCeiling);
+        });
     // Window wall (z = D): windows 1.8 m wide every 2.4 m, sill 0.9 m, head 2.5 m, two panes
     // each in a 6 cm frame.
     const double sill = 0.9, head = 2.5, fr = 0.06;
@@ -356,26 +377,30 @@ void room(Mesh& mesh, const Plan& p) {
     vs = {0, sill, sill + fr, head - fr, head, H};
     for (const Rect& r : panes) us.insert(us.end(), {r.u0, r.u1, r.u0 - fr, r.u1 + fr});
     mesh.begin("room.window_wall");
-    tiled(mesh, us, vs, {0, 0, -1}, [D](double u, double v) { return glm::dvec3(u, v, D); },
-          [&](double u, double v) {
-              for (const Rect& r : panes)
-                  if (r.contains(u, v)) return int(kWindow);
-              for (const Rect& r : frames)
-                  if (r.contains(u, v)) return int(kFrame);
-              return int(kWall);
-          });
+    tiled(
+        mesh, us, vs, {0, 0, -1}, [D](double u, double v) { return glm::dvec3(u, v, D); },
+        [&](double u, double v) {
+            for (const Rect& r : panes)
+                if (r.contains(u, v)) return int(kWindow);
+            for (const Rect& r : frames)
+                if (r.contains(u, v)) return int(kFrame);
+            return int(kWall);
+        });
     // Door wall (z = 0): one door near the corner.
     const Rect door{kCaseD + 0.2, kCaseD + 1.2, 0.0, 2.1};
     mesh.begin("room.door_wall");
-    tiled(mesh, {0, door.u0, door.u1, W}, {0, door.v1, H}, {0, 0, 1},
-          [](double u, double v) { return glm::dvec3(u, v, 0); },
-          [&door](double u, double v) { return door.contains(u, v) ? int(kDoor) : int(kWall); });
+    tiled(
+        mesh, {0, door.u0, door.u1, W}, {0, door.v1, H}, {0, 0, 1},
+        [](double u, double v) { return glm::dvec3(u, v, 0); },
+        [&door](double u, double v) { return door.contains(u, v) ? int(kDoor) : int(kWall); });
     mesh.begin("room.wall_west");
-    tiled(mesh, {0, D}, {0, H}, {1, 0, 0}, [](double u, double v) { return glm::dvec3(0, v, u); },
-          [](double, double) { return int(kWall); });
+    tiled(
+        mesh, {0, D}, {0, H}, {1, 0, 0}, [](double u, double v) { return glm::dvec3(0, v, u); },
+        [](double, double) { return int(kWall); });
     mesh.begin("room.wall_east");
-    tiled(mesh, {0, D}, {0, H}, {-1, 0, 0}, [W](double u, double v) { return glm::dvec3(W, v, u); },
-          [](double, double) { return int(kWall); });
+    tiled(
+        mesh, {0, D}, {0, H}, {-1, 0, 0}, [W](double u, double v) { return glm::dvec3(W, v, u); },
+        [](double, double) { return int(kWall); });
 }
 
 // A chair: local -z is its front (towards the desk), backrest at +z.
@@ -460,10 +485,10 @@ void plant(Mesh& mesh, const Frame& f, const Detail& d, double y, double scale, 
 
 // A bookcase against a wall: local -z is the wall, open at +z. Books are planned separately.
 struct Compartment {
-    Frame frame;      // the bookcase's frame
-    double y;         // top of the board the books stand on
-    double x0, x1;    // inner width
-    double height;    // clear height
+    Frame frame;    // the bookcase's frame
+    double y;       // top of the board the books stand on
+    double x0, x1;  // inner width
+    double height;  // clear height
     int bookcase, level;
 };
 void bookcase(Mesh& mesh, const Frame& f, std::uint64_t seed, int id, std::vector<Compartment>& compartments) {
@@ -574,7 +599,8 @@ Office build(int pairs, long books, const Detail& d, std::uint64_t seed) {
         box(mesh, f, 0.59, kCabinetD / 2, 0.0, kCabinetH, kShelf, false, true, kPZ);
         Rng rng(seed, 5, std::uint64_t(k));
         if (rng.uniform(0, 1) < 0.35)
-            plant(mesh, f.child({rng.uniform(-0.3, 0.3), 0, 0}), d, kCabinetH, 0.5, "cabinet_plant" + std::to_string(k));
+            plant(mesh, f.child({rng.uniform(-0.3, 0.3), 0, 0}), d, kCabinetH, 0.5,
+                  "cabinet_plant" + std::to_string(k));
     }
     plant(mesh, Frame{{kCaseD + 0.5, 0, p.depth - kCabinetD - 0.4}}, d, 0.0, 1.2, "plant_west");
     plant(mesh, Frame{{p.width - kCaseD - 0.5, 0, p.depth - kCabinetD - 0.4}}, d, 0.0, 1.2, "plant_east");
@@ -613,8 +639,8 @@ Office build(int pairs, long books, const Detail& d, std::uint64_t seed) {
 constexpr int kTrianglesPerBook = 10;  // a box without its bottom
 
 // Finds the desk count and book count that give `target` triangles: the most desk pairs that
-// leave room for the shelves to be half full (or books to be 30% of the triangles), then books make up the rest exactly (to within
-// 5 triangles).
+// leave room for the shelves to be half full (or books to be 30% of the triangles), then books make up the rest exactly
+// (to within 5 triangles).
 Office build_for(long target, std::uint64_t seed) {
     const Detail d = detail_for(target);
     auto count = [&](int pairs) { return build(pairs, -1, d, seed); };
@@ -701,9 +727,9 @@ void write_office(const Office& o, const std::filesystem::path& path, long reque
                   "# bounce-office --triangles %ld --seed %llu\n# room %.3f x %.3f x %.3f m (x, y up, z), "
                   "%zu triangles, %d desks, %d chairs, %d bookcases, %d books\n# detail: %d segments per cylinder, "
                   "%d per rounded corner, %d per rounded edge\nmtllib %s\n",
-                  requested, static_cast<unsigned long long>(seed), p.width, kHeight, p.depth,
-                  o.mesh.triangles.size(), o.desks, o.chairs, o.bookcases, o.books, o.detail.cylinder,
-                  o.detail.corner, o.detail.edge, mtl.filename().string().c_str());
+                  requested, static_cast<unsigned long long>(seed), p.width, kHeight, p.depth, o.mesh.triangles.size(),
+                  o.desks, o.chairs, o.bookcases, o.books, o.detail.cylinder, o.detail.corner, o.detail.edge,
+                  mtl.filename().string().c_str());
     s += head;
     const auto& mats = materials();
     for (std::size_t k = 0; k < o.mesh.objects.size(); ++k) {
@@ -757,17 +783,17 @@ int main(int argc, char** argv) {
             throw std::invalid_argument("--triangles must be between 1 and 50000000, got " + std::to_string(triangles));
         if (seed < 0) throw std::invalid_argument("--seed must be 0 or more, got " + std::to_string(seed));
         const std::filesystem::path path(out);
-        if (path.extension() != ".obj")
-            throw std::invalid_argument("-o must name a .obj file, got '" + out + "'");
+        if (path.extension() != ".obj") throw std::invalid_argument("-o must name a .obj file, got '" + out + "'");
         const auto t0 = std::chrono::steady_clock::now();
         const Office o = build_for(triangles, std::uint64_t(seed));
         write_office(o, path, triangles, std::uint64_t(seed));
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (!quiet)
-            std::printf("%s: %zu triangles (asked %ld), room %.1f x %.1f x %.1f m, %d desks, %d chairs, %d bookcases, "
-                        "%d books, %d segments per cylinder; %.2f s\n",
-                        out.c_str(), o.mesh.triangles.size(), triangles, o.plan.width, o.plan.depth, kHeight, o.desks,
-                        o.chairs, o.bookcases, o.books, o.detail.cylinder, secs);
+            std::printf(
+                "%s: %zu triangles (asked %ld), room %.1f x %.1f x %.1f m, %d desks, %d chairs, %d bookcases, "
+                "%d books, %d segments per cylinder; %.2f s\n",
+                out.c_str(), o.mesh.triangles.size(), triangles, o.plan.width, o.plan.depth, kHeight, o.desks, o.chairs,
+                o.bookcases, o.books, o.detail.cylinder, secs);
         return 0;
     } catch (const std::invalid_argument& e) {
         std::cerr << "bounce-office: error: " << e.what() << "\n";
