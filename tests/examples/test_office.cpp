@@ -204,7 +204,8 @@ TEST(Office, BadArgumentsFailWithOneLine) {
 // sampling of partly hidden pairs).
 // Disabled: on the 2k office the raycast estimator's near-pair fallback (contour_form_factor's
 // adaptive Gauss-Kronrod) ran for over 10 minutes on 2 shared cores inside the first rows, and
-// neither --max-seconds nor SIGTERM stopped `bounce solve` there. Enable once that is bounded.
+// neither --max-seconds nor SIGTERM stopped `bounce solve` there (two facets of one chair's legs
+// are enough, examples/office/README.md). Enable once that is bounded.
 TEST(Office, DISABLED_ClosedOfficeConservesEnergy) {
     TempDir tmp;
     const auto path = tmp / "office.obj";
