@@ -779,11 +779,14 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        if (triangles <= 0 || triangles > 50'000'000)
-            throw std::invalid_argument("--triangles must be between 1 and 50000000, got " + std::to_string(triangles));
+        if (triangles <= 0 || triangles > 20'000'000)
+            throw std::invalid_argument("--triangles must be between 1 and 20000000, got " + std::to_string(triangles));
         if (seed < 0) throw std::invalid_argument("--seed must be 0 or more, got " + std::to_string(seed));
         const std::filesystem::path path(out);
         if (path.extension() != ".obj") throw std::invalid_argument("-o must name a .obj file, got '" + out + "'");
+        if (path.filename().string().find_first_of(" \t") != std::string::npos)
+            throw std::invalid_argument("-o: the file name may not contain spaces (mtllib names it), got '" + out +
+                                        "'");
         const auto t0 = std::chrono::steady_clock::now();
         const Office o = build_for(triangles, std::uint64_t(seed));
         write_office(o, path, triangles, std::uint64_t(seed));
