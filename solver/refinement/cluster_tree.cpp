@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -93,15 +94,48 @@ std::uint32_t ClusterTree::build(const std::vector<Patch>& patches, std::vector<
                 agg.sample_normal[std::size_t(agg.sample_count)] = normals[s][std::size_t(k)];
                 ++agg.sample_count;
             }
+    // The normal cone about the mean normal, over the members (ids[begin, end)).
+    const double len = glm::length(agg.area_normal);
+    if (len > 1e-9 * agg.area) {
+        agg.cone_axis = agg.area_normal / len;
+        agg.cone_cos = 1.0;
+        for (std::size_t k = begin; k < end; ++k)
+            agg.cone_cos = std::min(agg.cone_cos, glm::dot(agg.cone_axis, patches[ids[k]].normal));
+    }
     m_clusters[c] = agg;
     return c | cluster_bit;
 }
 
 ClusterTree::Range ClusterTree::projected_area(const Cluster& c, const glm::dvec3& d) {
+    // Every member faces d (angle to the axis plus the cone's half-angle within 90 degrees):
+    // the sum of A_j n_j . d is exact; every member faces away: nothing shows.
+    if (c.cone_cos > -1.0) {
+        const double a = std::acos(std::clamp(glm::dot(c.cone_axis, d), -1.0, 1.0));
+        const double half = std::acos(std::clamp(c.cone_cos, -1.0, 1.0));
+        if (a + half <= 0.5 * std::numbers::pi) {
+            const double exact = std::max(0.0, glm::dot(c.area_normal, d));
+            return {exact, exact};
+        }
+        if (a - half >= 0.5 * std::numbers::pi) return {0.0, 0.0};
+    }
     // max(0, n.d) <= sum_k |d_k| max(0, sign(d_k) n_k), and sum_j A_j max(0, n_j.d) >= max(0, (sum_j A_j n_j).d).
     double hi = 0.0;
     for (int k = 0; k < 3; ++k) hi += std::abs(d[k]) * c.axis_area[std::size_t(d[k] >= 0 ? k : k + 3)];
     return {std::max(0.0, glm::dot(c.area_normal, d)), std::min(hi, c.area)};
+}
+
+}  // namespace bounce
+
+namespace bounce {
+
+double ClusterTree::shown_area(std::uint32_t ref, const glm::dvec3& d, const std::vector<Patch>& patches,
+                               int depth) const {
+    if (!is_cluster(ref)) return patches[ref].area * std::max(0.0, glm::dot(patches[ref].normal, d));
+    const Cluster& c = cluster(ref);
+    const Range r = projected_area(c, d);
+    if (r.lo == r.hi) return r.lo;
+    if (depth <= 0) return 0.5 * (r.lo + r.hi);
+    return shown_area(c.child[0], d, patches, depth - 1) + shown_area(c.child[1], d, patches, depth - 1);
 }
 
 }  // namespace bounce

@@ -35,6 +35,8 @@ public:
         /// members show in any direction (see projected_area)
         std::array<double, 6> axis_area{};
         glm::dvec3 area_normal{0.0};  // sum A n over members
+        glm::dvec3 cone_axis{0.0};    // a cone of directions about this axis holds every member's normal ...
+        double cone_cos = -1.0;       // ... with this cosine of its half-angle (-1: any direction)
         int sample_count = 0;         // up to 4 member centroids, spread over the subtree (visibility rays)
         std::array<glm::dvec3, 4> sample{};
         std::array<glm::dvec3, 4> sample_normal{};
@@ -57,6 +59,10 @@ public:
         double lo = 0.0, hi = 0.0;
     };
     static Range projected_area(const Cluster& c, const glm::dvec3& d);
+    /// An estimate of the area node `ref` shows towards unit d: exact for a patch, and for a
+    /// cluster whose normal cone lies wholly on one side of d's normal plane; else the sum
+    /// over its children, down to `depth` levels, then the midpoint of projected_area.
+    double shown_area(std::uint32_t ref, const glm::dvec3& d, const std::vector<Patch>& patches, int depth = 3) const;
 
 private:
     std::uint32_t build(const std::vector<Patch>& patches, std::vector<std::uint32_t>& ids, std::size_t begin,

@@ -33,11 +33,13 @@ struct End {
     double radius = 0.0;  // bounding sphere about centre
     const ClusterTree::Cluster* cluster = nullptr;
     const Patch* element = nullptr;
-    /// The area the end shows towards unit d (members facing d), the midpoint of its bounds.
+    std::uint32_t ref = 0;
+    const ClusterTree* tree = nullptr;
+    const std::vector<Patch>* patches = nullptr;  // the input patches (the clusters' members)
+    /// The area the end shows towards unit d (its members facing d; ClusterTree::shown_area).
     double shown(const glm::dvec3& d) const {
         if (element) return element->area * std::max(0.0, glm::dot(element->normal, d));
-        const auto r = ClusterTree::projected_area(*cluster, d);
-        return 0.5 * (r.lo + r.hi);
+        return tree->shown_area(ref, d, *patches);
     }
     /// True when no part of the end is strictly in front of element p's plane.
     bool behind(const Patch& p) const {
@@ -56,6 +58,9 @@ End end_of(const ElementTree& tree, const ClusterTree& clusters, std::uint32_t r
     End e;
     if (ClusterTree::is_cluster(ref)) {
         e.cluster = &clusters.cluster(ref);
+        e.ref = ref;
+        e.tree = &clusters;
+        e.patches = &tree.roots();
         e.area = e.cluster->area;
         e.centre = e.cluster->centre;
         e.radius = e.cluster->radius;
@@ -289,12 +294,14 @@ public:
     /// at most: B_b A_b / (pi r_min^2), every member of b facing the point at the bounding
     /// spheres' gap (Sillion 1995). Link when that is below link_epsilon of what the link
     /// brings plus cluster_floor of the scene's mean radiosity, both ways round; else split
-    /// the larger end. A cluster's self-link is always refined: it would send a cluster's
+    /// the larger cluster. A cluster's self-link is always refined: it would send a cluster's
     /// power to itself.
     void refine_any(std::uint32_t a, std::uint32_t b) {
         const bool ca = ClusterTree::is_cluster(a), cb = ClusterTree::is_cluster(b);
         if (!ca && !cb) {
-            if (a != b) refine(a, b);  // a planar patch does not see itself
+            // A planar patch does not see itself; pairs go in the unclustered order (the
+            // oracle's ties in area split the first).
+            if (a != b) refine(std::min(a, b), std::max(a, b));
             return;
         }
         if (a == b) {
@@ -318,18 +325,14 @@ public:
                 return;
             }
         }
-        // Split the larger end; a cluster always can be, an element only down to its limit.
-        const bool split_a = ca || splittable(a), split_b = cb || splittable(b);
-        const bool take_a = split_a && (!split_b || ea.area >= eb.area);
+        // Split the larger of two clusters; an element meeting a cluster waits while the
+        // cluster is split, so two patches always meet as a pair and the element oracle alone
+        // decides how they are cut (as without clustering).
+        const bool take_a = ca && (!cb || ea.area >= eb.area);
         const std::uint32_t s = take_a ? a : b, other = take_a ? b : a;
-        if (ClusterTree::is_cluster(s)) {
-            const auto child = m_clusters->cluster(s).child;
-            refine_any(child[0], other);
-            refine_any(child[1], other);
-        } else {
-            const std::uint32_t first = children(s);
-            for (std::uint32_t k = 0; k < 4; ++k) refine_any(first + k, other);
-        }
+        const auto child = m_clusters->cluster(s).child;
+        refine_any(child[0], other);
+        refine_any(child[1], other);
     }
 
     /// A link hands every point of a the mean F(a -> b), so it errs at a's leaves by up to

@@ -20,7 +20,7 @@ struct HierarchicalOptions {
     double min_area = 0.0;           // never split an element smaller than this (0: the patch area / 4^max_level)
     int max_level = 4;               // quadtree depth under each patch
     bool clustering = true;          // start from the root cluster's self-link, not from every pair of patches
-    double cluster_floor = 1.0;      // a cluster link's error floor, a share of the scene's mean radiosity
+    double cluster_floor = 0.1;      // a cluster link's error floor, a share of the scene's mean radiosity
     bool cluster_visibility = true;  // cluster links: visible fraction of rays between member centroids
     double tolerance = 1e-6;         // stop when no element's radiosity changes by more than this, relatively
     std::size_t max_iterations = 1000;
@@ -61,8 +61,9 @@ struct HierarchicalSolution {
 /// the other (cluster_tree.h bounds it); it is accepted when its worst-case error at any
 /// point, B_b A_b / (pi r_min^2) with r_min the gap between the bounding spheres (every member
 /// facing every other, Sillion 1995), is below `link_epsilon` of what it brings plus
-/// `cluster_floor` of the scene's mean radiosity, both ways round; else the larger end is
-/// split (a cluster into its two children, an element into its quadtree children). A
+/// `cluster_floor` of the scene's mean radiosity, both ways round; else the larger cluster is
+/// split into its two children (an element waits for the cluster: two patches always meet as
+/// a pair, which the element oracle refines as above). A
 /// cluster's radiosity is its members' area-weighted mean (the power they emit over their
 /// area) and the irradiance it gathers reaches every member alike, so power is kept.
 HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const Visibility& visibility,

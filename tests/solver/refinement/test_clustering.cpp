@@ -8,8 +8,6 @@
 
 #include <tbb/global_control.h>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/linear/solver.h"
@@ -20,14 +18,6 @@
 using namespace bounce;
 
 namespace {
-
-std::vector<Patch> cornell(std::size_t target, bool subdivide = true) {
-    MeshingOptions o;
-    o.target_patches = target;
-    o.subdivide = subdivide;
-    o.cut_contacts = false;
-    return PatchMesh(load_scene("cornell"), o).patches();
-}
 
 /// Area-weighted mean radiosity over each input patch (the leaves below it).
 std::vector<Rgb> per_patch(const HierarchicalSolution& s) {
@@ -61,8 +51,9 @@ Difference compare(const std::vector<Patch>& P, const std::vector<Rgb>& a, const
 }
 
 /// A unit box, inward-facing, each wall cut into g x g squares of two triangles (12 g^2
-/// triangles); the ceiling's middle ninth emits.
-std::vector<Patch> triangle_box(int g) {
+/// triangles); the ceiling's middle ninth emits. With `blocker`, a two-sided square plate of
+/// side 0.4 (g x g squares a side, 4 g^2 triangles more) hangs at mid-height under the lamp.
+std::vector<Patch> triangle_box(int g, bool blocker = false) {
     std::vector<Patch> out;
     const glm::dvec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     for (int axis = 0; axis < 3; ++axis)
@@ -95,6 +86,29 @@ std::vector<Patch> triangle_box(int g) {
                     }
                 }
         }
+    if (blocker)
+        for (const double ny : {-1.0, 1.0})
+            for (int i = 0; i < g; ++i)
+                for (int j = 0; j < g; ++j) {
+                    const double s = 0.4 / g, x0 = 0.3 + i * s, z0 = 0.3 + j * s;
+                    const glm::dvec3 c00(x0, 0.5, z0), c10(x0 + s, 0.5, z0), c01(x0, 0.5, z0 + s),
+                        c11(x0 + s, 0.5, z0 + s);
+                    for (int t = 0; t < 2; ++t) {
+                        Patch p;
+                        p.vertex_count = 3;
+                        p.vertices = t == 0 ? std::array<glm::dvec3, 4>{c00, c10, c11, {}}
+                                            : std::array<glm::dvec3, 4>{c00, c11, c01, {}};
+                        const glm::dvec3 n(0, ny, 0);
+                        if (glm::dot(glm::cross(p.vertices[1] - p.vertices[0], p.vertices[2] - p.vertices[0]), n) < 0)
+                            std::swap(p.vertices[1], p.vertices[2]);
+                        p.centre = (p.vertices[0] + p.vertices[1] + p.vertices[2]) / 3.0;
+                        p.normal = n;
+                        p.area = 0.5 * s * s;
+                        p.reflectance = Rgb::gray(0.6);
+                        p.surface = ny < 0 ? 6 : 7;
+                        out.push_back(p);
+                    }
+                }
     return out;
 }
 
@@ -123,35 +137,46 @@ TEST(Clustering, ClusterTreeHoldsEveryPatchOnceAndBoundsThem) {
 }
 
 TEST(Clustering, AgreesWithUnclusteredPerInputPatch) {
-    const auto P = cornell(30);  // 60 patches
+    const auto P = triangle_box(6, true);  // 576 triangles, a plate shadowing the floor
     const auto vis = make_visibility("embree", P);
     HierarchicalOptions h;
-    h.max_level = 2;
+    h.max_level = 0;  // the triangles are the elements: the difference is the cluster links'
     h.clustering = false;
     const HierarchicalSolution flat = solve_hierarchical(P, *vis, h);
     h.clustering = true;
     const HierarchicalSolution clustered = solve_hierarchical(P, *vis, h);
+    h.cluster_visibility = false;
+    const HierarchicalSolution blind = solve_hierarchical(P, *vis, h);
     ASSERT_TRUE(clustered.result.converged);
     const Difference d = compare(P, per_patch(clustered), per_patch(flat));
+    const Difference db = compare(P, per_patch(blind), per_patch(flat));
     std::printf(
         "unclustered: %zu links from %zu pairs; clustered: %zu links (%zu with a cluster) from 1; "
-        "per-patch difference RMS %.4f, worst %.4f of the mean reflected radiosity\n",
-        flat.links, flat.initial_links, clustered.links, clustered.cluster_links, d.rms, d.worst);
+        "per-patch difference RMS %.4f, worst %.4f of the mean reflected radiosity (%.4f, %.4f without "
+        "cluster visibility)\n",
+        flat.links, flat.initial_links, clustered.links, clustered.cluster_links, d.rms, d.worst, db.rms, db.worst);
     EXPECT_EQ(clustered.initial_links, 1u);
     EXPECT_EQ(flat.initial_links, P.size() * (P.size() - 1) / 2);
     EXPECT_GT(clustered.cluster_links, 0u);
-    EXPECT_LT(d.rms, 0.02);
-    EXPECT_LT(d.worst, 0.1);
+    EXPECT_LT(double(clustered.links), 0.85 * double(flat.links));
+    // Measured: RMS 0.0072, worst 0.041. Each cluster link may err by link_epsilon of what it
+    // brings plus link_epsilon cluster_floor of the mean radiosity; the errors of a patch's many
+    // links largely cancel. Bounds at a quarter of link_epsilon (RMS) and link_epsilon (worst)
+    // catch a cluster F off by a factor 2 (measured RMS 0.36, worst 0.49) or 1/2 (0.136, 0.18).
+    EXPECT_LT(d.rms, 0.25 * h.link_epsilon);
+    EXPECT_LT(d.worst, h.link_epsilon);
+    // Ignoring visibility on cluster links lights the shadowed floor: measured RMS 0.055.
+    EXPECT_GT(db.rms, 3 * d.rms);
     // Energy: emitted = absorbed + escaped to rounding (nothing unshot in a gathering solution).
     const SolveResult& r = clustered.result;
     for (int c = 0; c < 3; ++c) EXPECT_NEAR((r.absorbed_power[c] + r.escaped_power[c]) / r.emitted_power[c], 1.0, 1e-9);
 }
 
 TEST(Clustering, AgreesWithTheFullMatrixOnAClosedBox) {
-    const auto P = triangle_box(4);  // 192 triangles, closed
+    const auto P = triangle_box(6, true);  // 576 triangles, closed, a plate shadowing the floor
     const auto vis = make_visibility("embree", P);
     HierarchicalOptions h;
-    h.max_level = 1;
+    h.max_level = 0;  // the triangles are the elements, a fifth of the links carry clusters
     const HierarchicalSolution s = solve_hierarchical(P, *vis, h);
     ASSERT_TRUE(s.result.converged);
     EXPECT_GT(s.cluster_links, 0u);
@@ -165,7 +190,10 @@ TEST(Clustering, AgreesWithTheFullMatrixOnAClosedBox) {
     const Difference d = compare(leaves, s.result.radiosity, full.radiosity);
     std::printf("%zu elements, %zu links (%zu with a cluster): difference from the full matrix RMS %.4f, worst %.4f\n",
                 leaves.size(), s.links, s.cluster_links, d.rms, d.worst);
+    // Measured: RMS 0.0072, worst 0.041 (84791 links, 18856 with a cluster, against 165600
+    // pairs); the bounds are the element oracle's (test_adaptive_hierarchical).
     EXPECT_LT(d.rms, 0.5 * h.link_epsilon);
+    EXPECT_LT(d.worst, 2 * h.link_epsilon);
 }
 
 TEST(Clustering, LinkCountGrowsSubQuadraticallyOnManyTriangles) {
@@ -196,16 +224,20 @@ TEST(Clustering, LinkCountGrowsSubQuadraticallyOnManyTriangles) {
 }
 
 TEST(Clustering, DeterministicOnAnyThreadCount) {
-    const auto P = cornell(30);
+    const auto P = triangle_box(6, true);  // cluster links with visibility rays, and element links
     const auto vis = make_visibility("embree", P);
     HierarchicalOptions h;
-    h.max_level = 2;
+    h.max_level = 0;
     h.refine_rounds = 2;
     std::vector<std::vector<Rgb>> runs;
+    std::size_t cluster_links = 0;
     for (const int threads : {1, 2, 2}) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-        runs.push_back(solve_hierarchical(P, *vis, h).result.radiosity);
+        const HierarchicalSolution s = solve_hierarchical(P, *vis, h);
+        runs.push_back(s.result.radiosity);
+        cluster_links = s.cluster_links;
     }
+    EXPECT_GT(cluster_links, 1000u);
     for (std::size_t r = 1; r < runs.size(); ++r) {
         ASSERT_EQ(runs[r].size(), runs[0].size());
         for (std::size_t k = 0; k < runs[0].size(); ++k)
