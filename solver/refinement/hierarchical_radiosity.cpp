@@ -178,7 +178,7 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
         return ClusterTree::is_cluster(ref) ? clusters->cluster(ref).area : G[ref].area;
     };
     std::vector<Rgb> b(n + nc), h(n + nc), gathered(n + nc), next(n + nc);
-    std::copy(B.begin(), B.end(), b.begin());
+    std::copy_n(B.begin(), std::min(B.size(), n), b.begin());  // one per node: the refiner gave new ones their parent's
     for (std::size_t c = 0; c < nc && c < Bc.size(); ++c) b[n + c] = Bc[c];
     std::vector<double> fba(links.size());
     for (std::size_t k = 0; k < links.size(); ++k) fba[k] = double(links[k].fab) * area(links[k].a) / area(links[k].b);
