@@ -52,6 +52,7 @@ struct SolveCommand {
     bool adaptive = false;
     AdaptiveOptions adaptive_options;
     HierarchicalOptions hierarchical;
+    bool no_clustering = false;       // hierarchical: refine every pair of patches, no cluster hierarchy
     std::string gather = "vertices";  // point values: final gather at the vertices (point_values.h)
 };
 
@@ -89,6 +90,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     settings << "patches=" << mesh.size() << " rays=" << s.ff.visibility_rays << " seed=" << s.ff.seed;
     if (hierarchical) {
         HierarchicalOptions h = s.hierarchical;
+        h.clustering = !s.no_clustering;
         h.form_factors = s.ff;
         h.cancel = &g_interrupted;
         HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
@@ -96,10 +98,12 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         res = std::move(sol.result);
         const double n = double(sol.leaves.size());
         settings << " solver=hierarchical link_epsilon=" << h.link_epsilon << " link_floor=" << h.link_floor
-                 << " max_level=" << h.max_level << " elements=" << sol.leaves.size() << " links=" << sol.links;
+                 << " max_level=" << h.max_level << " clustering=" << (h.clustering ? 1 : 0)
+                 << " elements=" << sol.leaves.size() << " links=" << sol.links;
         summary << "patches " << mesh.size() << ", hierarchical: " << sol.leaves.size() << " elements, " << sol.links
-                << " links (" << 100.0 * double(sol.links) / (n * n) << "% of N^2), " << res.steps << " iterations, "
-                << res.seconds << " s\n";
+                << " links (" << 100.0 * double(sol.links) / (n * n) << "% of N^2; " << sol.cluster_links
+                << " with a cluster, " << sol.clusters << " clusters), " << res.steps << " iterations, " << res.seconds
+                << " s\n";
     } else {
         AdaptiveOptions a = s.adaptive_options;
         a.form_factors = s.ff;
@@ -301,6 +305,9 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->add_option("--link-epsilon", solve->hierarchical.link_epsilon,
                      "hierarchical: link error bound, a share of what the link brings (0.1)")
         ->check(kPositive);
+    solve_cmd->add_flag("--no-clustering", solve->no_clustering,
+                        "hierarchical: start from every pair of input patches, not from one cluster hierarchy "
+                        "(Smits, Arvo and Greenberg 1994), to compare");
     solve_cmd
         ->add_option("--max-level", solve->hierarchical.max_level,
                      "hierarchical: quadtree depth under each input face (4)")

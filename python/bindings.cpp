@@ -372,7 +372,8 @@ std::shared_ptr<SolutionData> solve(
     int receiver_samples, int hemicube_res, bool hemicube_jitter, std::uint64_t seed, std::size_t max_matrix_mb,
     const std::string& gather, bool residuals,
     const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& reference, bool adaptive,
-    double target_error, std::int64_t max_patches, double link_epsilon, int max_level, const py::object& progress) {
+    double target_error, std::int64_t max_patches, double link_epsilon, int max_level, bool clustering,
+    const py::object& progress) {
     std::vector<std::string> solvers = solver_names();
     solvers.push_back("hierarchical");
     check_member("solver", solver_name, solvers);
@@ -420,6 +421,7 @@ std::shared_ptr<SolutionData> solve(
                     HierarchicalOptions h;
                     h.link_epsilon = link_epsilon;
                     h.max_level = max_level;
+                    h.clustering = clustering;
                     h.form_factors = f;
                     h.cancel = &job.cancel;
                     HierarchicalSolution sol = solve_hierarchical(P, *visibility, h);
@@ -428,7 +430,8 @@ std::shared_ptr<SolutionData> solve(
                     res = std::move(sol.result);
                     settings << "patches=" << P.size() << " rays=" << rays << " seed=" << seed
                              << " solver=hierarchical link_epsilon=" << link_epsilon << " max_level=" << max_level
-                             << " elements=" << sol.leaves.size() << " links=" << sol.links;
+                             << " clustering=" << (clustering ? 1 : 0) << " elements=" << sol.leaves.size()
+                             << " links=" << sol.links;
                 } else {
                     AdaptiveOptions a;
                     a.target_error = target_error;
@@ -900,7 +903,8 @@ PYBIND11_MODULE(_bounce, m) {
           py::arg("hemicube_jitter") = false, py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048,
           py::arg("gather") = "vertices", py::arg("residuals") = false, py::arg("reference") = py::none(),
           py::arg("adaptive") = false, py::arg("target_error") = 0.05, py::arg("max_patches") = 20000,
-          py::arg("link_epsilon") = 0.1, py::arg("max_level") = 4, py::arg("progress") = py::none(),
+          py::arg("link_epsilon") = 0.1, py::arg("max_level") = 4, py::arg("clustering") = true,
+          py::arg("progress") = py::none(),
           "Radiosity of the scene, as `bounce solve` computes it with the same options (the keywords are its "
           "flags: solver shooting, gauss-seidel, jacobi, direct or hierarchical; form_factors raycast, exact, "
           "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive). "

@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
+#include <optional>
+#include <span>
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
@@ -12,15 +15,103 @@
 #include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/form_factors/raycast_form_factor.h"
 #include "solver/linear/convergence.h"
+#include "solver/refinement/cluster_tree.h"
 #include "solver/visibility/visibility.h"
 
 namespace bounce {
 namespace {
 
 struct Link {
-    std::uint32_t a, b;  // a gathers from b and b from a
-    float fab = 0.0f;    // F_ab; F_ba = F_ab A_a / A_b
+    std::uint32_t a, b;  // a gathers from b and b from a: element nodes or clusters (ClusterTree refs)
+    float fab = 0.0f;    // F_ab; F_ba = F_ab A_a / A_b (a cluster's A: its members' total area)
 };
+
+/// One end of a link with a cluster: what the isotropic transfer needs of it.
+struct End {
+    double area = 0.0;
+    glm::dvec3 centre{0.0};
+    double radius = 0.0;  // bounding sphere about centre
+    const ClusterTree::Cluster* cluster = nullptr;
+    const Patch* element = nullptr;
+    std::uint32_t ref = 0;
+    const ClusterTree* tree = nullptr;
+    const std::vector<Patch>* patches = nullptr;  // the input patches (the clusters' members)
+    /// The area the end shows towards unit d (its members facing d; ClusterTree::shown_area).
+    double shown(const glm::dvec3& d) const {
+        if (element) return element->area * std::max(0.0, glm::dot(element->normal, d));
+        return tree->shown_area(ref, d, *patches);
+    }
+    /// True when no part of the end is strictly in front of element p's plane.
+    bool behind(const Patch& p) const {
+        if (element) return wholly_behind(p, *element);
+        const double tol = 1e-12 * std::sqrt(p.area + area);
+        for (int k = 0; k < 8; ++k) {
+            const glm::dvec3 x((k & 1) ? cluster->hi.x : cluster->lo.x, (k & 2) ? cluster->hi.y : cluster->lo.y,
+                               (k & 4) ? cluster->hi.z : cluster->lo.z);
+            if (p.height(x) > tol) return false;
+        }
+        return true;
+    }
+};
+
+End end_of(const ElementTree& tree, const ClusterTree& clusters, std::uint32_t ref) {
+    End e;
+    if (ClusterTree::is_cluster(ref)) {
+        e.cluster = &clusters.cluster(ref);
+        e.ref = ref;
+        e.tree = &clusters;
+        e.patches = &tree.roots();
+        e.area = e.cluster->area;
+        e.centre = e.cluster->centre;
+        e.radius = e.cluster->radius;
+    } else {
+        e.element = &tree.geometry()[ref];
+        e.area = e.element->area;
+        e.centre = e.element->centre;
+        e.radius = circumradius(*e.element);
+    }
+    return e;
+}
+
+/// A_a F_ab for a link with a cluster, unoccluded: both ends shrunk to points at their
+/// centres, each showing the other the area its members turn towards it (Sillion 1995's
+/// isotropic cluster with the members' orientation kept, as Smits et al. 1994 do), capped so
+/// that neither F exceeds 1.
+double cluster_transfer(const End& a, const End& b) {
+    const glm::dvec3 v = b.centre - a.centre;
+    const double r2 = glm::dot(v, v);
+    if (!(r2 > 0)) return 0.0;
+    const glm::dvec3 d = v / std::sqrt(r2);
+    return std::min({a.shown(d) * b.shown(-d) / (std::numbers::pi * r2), a.area, b.area});
+}
+
+/// Fraction of the rays between the ends' sample points (member centroids, up to 4 each)
+/// that arrive unblocked; only pairs of samples that face each other cast a ray (1 if none).
+double cluster_visible_fraction(const End& a, const End& b, const Visibility& visibility) {
+    std::array<glm::dvec3, 4> pa{}, na{}, pb{}, nb{};
+    auto samples = [](const End& e, std::array<glm::dvec3, 4>& p, std::array<glm::dvec3, 4>& n) {
+        if (e.element) {
+            p[0] = e.element->centre;
+            n[0] = e.element->normal;
+            return 1;
+        }
+        p = e.cluster->sample;
+        n = e.cluster->sample_normal;
+        return e.cluster->sample_count;
+    };
+    const int ca = samples(a, pa, na), cb = samples(b, pb, nb);
+    std::array<Visibility::Segment, 16> segments{};
+    std::size_t count = 0;
+    const double off = visibility.offset();
+    for (int i = 0; i < ca; ++i)
+        for (int j = 0; j < cb; ++j) {
+            const glm::dvec3 v = pb[std::size_t(j)] - pa[std::size_t(i)];
+            if (glm::dot(na[std::size_t(i)], v) <= 0 || glm::dot(nb[std::size_t(j)], v) >= 0) continue;
+            segments[count++] = {pa[std::size_t(i)] + off * na[std::size_t(i)],
+                                 pb[std::size_t(j)] + off * nb[std::size_t(j)]};
+        }
+    return visibility.open_fraction(std::span<const Visibility::Segment>(segments.data(), count));
+}
 
 /// The point of polygon a nearest to x (a convex, planar): x projected onto a's plane, or,
 /// when that falls outside, the nearest point of its edges.
@@ -72,19 +163,36 @@ Spread point_factor_spread(const Patch& a, const Patch& b) {
 }
 
 /// Gather and push-pull until the leaves settle (Jacobi over the hierarchy); B and H hold a
-/// value per tree node.
-void solve_links(const ElementTree& tree, const std::vector<Link>& links, const HierarchicalOptions& options,
-                 std::vector<Rgb>& B, std::vector<Rgb>& H, SolveResult& res) {
+/// value per tree node, Bc a value per cluster (clusters may be null: no clustering).
+void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std::vector<Link>& links,
+                 const HierarchicalOptions& options, std::vector<Rgb>& B, std::vector<Rgb>& Bc, std::vector<Rgb>& H,
+                 SolveResult& res) {
     const auto& G = tree.geometry();
     const std::size_t n = tree.size();
-    B.resize(n);
-    H.assign(n, Rgb());
-    std::vector<Rgb> gathered(n), next(n);
+    const std::size_t nc = clusters ? clusters->clusters().size() : 0;
+    // Element nodes first, then the clusters, in one array per quantity.
+    auto slot = [n](std::uint32_t ref) {
+        return ClusterTree::is_cluster(ref) ? n + ClusterTree::index(ref) : std::size_t(ref);
+    };
+    auto area = [&](std::uint32_t ref) {
+        return ClusterTree::is_cluster(ref) ? clusters->cluster(ref).area : G[ref].area;
+    };
+    std::vector<Rgb> b(n + nc), h(n + nc), gathered(n + nc), next(n + nc);
+    std::copy_n(B.begin(), std::min(B.size(), n), b.begin());  // one per node: the refiner gave new ones their parent's
+    for (std::size_t c = 0; c < nc && c < Bc.size(); ++c) b[n + c] = Bc[c];
+    std::vector<double> fba(links.size());
+    for (std::size_t k = 0; k < links.size(); ++k) fba[k] = double(links[k].fab) * area(links[k].a) / area(links[k].b);
     std::vector<std::uint32_t> order;  // parents before children
     for (std::uint32_t r = 0; r < tree.root_count(); ++r) order.push_back(r);
     for (std::size_t k = 0; k < order.size(); ++k)
         if (!tree.node(order[k]).leaf())
             for (int c = 0; c < 4; ++c) order.push_back(std::uint32_t(tree.node(order[k]).first_child + c));
+    auto above = [&](std::uint32_t i) -> std::size_t {  // the slot of i's parent, or SIZE_MAX
+        const auto& node = tree.node(i);
+        if (node.parent >= 0) return std::size_t(node.parent);
+        if (clusters && clusters->patch_parent(i) >= 0) return n + std::size_t(clusters->patch_parent(i));
+        return SIZE_MAX;
+    };
     res.status = "max iterations";
     res.converged = false;
     for (std::size_t it = 0; it < options.max_iterations; ++it) {
@@ -92,25 +200,32 @@ void solve_links(const ElementTree& tree, const std::vector<Link>& links, const 
             res.status = "interrupted";
             break;
         }
-        // Gather: every element collects F B over its links, both ways round.
+        // Gather: every element or cluster collects F B over its links, both ways round.
         std::fill(gathered.begin(), gathered.end(), Rgb());
-        for (const Link& l : links) {
+        for (std::size_t k = 0; k < links.size(); ++k) {
+            const Link& l = links[k];
             if (l.fab == 0.0f) continue;
-            const double fab = l.fab, fba = fab * G[l.a].area / G[l.b].area;
-            gathered[l.a] += B[l.b] * fab;
-            gathered[l.b] += B[l.a] * fba;
+            const std::size_t sa = slot(l.a), sb = slot(l.b);
+            gathered[sa] += b[sb] * double(l.fab);
+            gathered[sb] += b[sa] * fba[k];
         }
-        // Push: what an element gathered reaches every leaf below it.
+        // Push: what a cluster or element gathered reaches every member and leaf below it
+        // alike (irradiance per unit area, so the power is the gathered power).
+        for (std::size_t c = 0; c < nc; ++c) {
+            const auto parent = clusters->clusters()[c].parent;
+            h[n + c] = gathered[n + c] + (parent >= 0 ? h[n + std::size_t(parent)] : Rgb());
+        }
         for (const std::uint32_t i : order) {
-            const auto& node = tree.node(i);
-            H[i] = gathered[i] + (node.parent >= 0 ? H[std::size_t(node.parent)] : Rgb());
+            const std::size_t up = above(i);
+            h[i] = gathered[i] + (up != SIZE_MAX ? h[up] : Rgb());
         }
-        // Pull: leaves reflect; a parent's radiosity is its children's area-weighted mean.
+        // Pull: leaves reflect; a parent's radiosity is its children's area-weighted mean
+        // (a cluster sends the power its members emit).
         for (std::size_t k = order.size(); k-- > 0;) {
             const std::uint32_t i = order[k];
             const auto& node = tree.node(i);
             if (node.leaf()) {
-                next[i] = G[i].emission + G[i].reflectance * H[i];
+                next[i] = G[i].emission + G[i].reflectance * h[i];
             } else {
                 Rgb sum;
                 for (int c = 0; c < 4; ++c) {
@@ -120,15 +235,20 @@ void solve_links(const ElementTree& tree, const std::vector<Link>& links, const 
                 next[i] = sum * (1.0 / G[i].area);
             }
         }
-        double change = 0.0, mean = 0.0, area = 0.0;
+        for (std::size_t c = nc; c-- > 0;) {
+            const auto& k = clusters->clusters()[c];
+            next[n + c] = (next[slot(k.child[0])] * area(k.child[0]) + next[slot(k.child[1])] * area(k.child[1])) *
+                          (1.0 / k.area);
+        }
+        double change = 0.0, mean = 0.0, total = 0.0;
         for (std::uint32_t r = 0; r < tree.root_count(); ++r) {
             mean += next[r].luminance() * G[r].area;
-            area += G[r].area;
+            total += G[r].area;
         }
-        mean /= area;
+        mean /= total;
         for (const std::uint32_t i : order)
-            if (tree.node(i).leaf()) change = std::max(change, std::abs(next[i].luminance() - B[i].luminance()));
-        B.swap(next);
+            if (tree.node(i).leaf()) change = std::max(change, std::abs(next[i].luminance() - b[i].luminance()));
+        b.swap(next);
         res.steps += 1;
         if (change <= options.tolerance * std::max(mean, 1e-300)) {
             res.converged = true;
@@ -136,6 +256,9 @@ void solve_links(const ElementTree& tree, const std::vector<Link>& links, const 
             break;
         }
     }
+    B.assign(b.begin(), b.begin() + std::ptrdiff_t(n));
+    Bc.assign(b.begin() + std::ptrdiff_t(n), b.end());
+    H.assign(h.begin(), h.begin() + std::ptrdiff_t(n));
 }
 
 /// The leaves' radiosity and irradiance, and the energy account, into out.result.
@@ -155,9 +278,62 @@ void finish_result(const ElementTree& tree, const std::vector<Rgb>& B, const std
 
 class Refiner {
 public:
-    Refiner(ElementTree& tree, const HierarchicalOptions& o, std::vector<double> min_area, std::vector<Rgb>& radiosity,
-            double scale)
-        : m_tree(tree), m_options(o), m_min_area(std::move(min_area)), m_b(radiosity), m_scale(scale) {}
+    Refiner(ElementTree& tree, const ClusterTree* clusters, const HierarchicalOptions& o, std::vector<double> min_area,
+            std::vector<Rgb>& radiosity, const std::vector<Rgb>& cluster_radiosity, double scale)
+        : m_tree(tree),
+          m_clusters(clusters),
+          m_options(o),
+          m_min_area(std::move(min_area)),
+          m_b(radiosity),
+          m_cb(cluster_radiosity),
+          m_scale(scale) {}
+
+    /// Refines a pair of which either end may be a cluster (ClusterTree refs); pairs of
+    /// elements go to refine(). A link with a cluster hands every member the same
+    /// irradiance, so its error at a member is bounded by what the other end could send it
+    /// at most: B_b A_b / (pi r_min^2), every member of b facing the point at the bounding
+    /// spheres' gap (Sillion 1995). Link when that is below link_epsilon of what the link
+    /// brings plus cluster_floor of the scene's mean radiosity, both ways round; else split
+    /// the larger cluster. A cluster's self-link is always refined: it would send a cluster's
+    /// power to itself.
+    void refine_any(std::uint32_t a, std::uint32_t b) {
+        const bool ca = ClusterTree::is_cluster(a), cb = ClusterTree::is_cluster(b);
+        if (!ca && !cb) {
+            // A planar patch does not see itself; pairs go in the unclustered order (the
+            // oracle's ties in area split the first).
+            if (a != b) refine(std::min(a, b), std::max(a, b));
+            return;
+        }
+        if (a == b) {
+            const auto child = m_clusters->cluster(a).child;
+            refine_any(child[0], child[0]);
+            refine_any(child[0], child[1]);
+            refine_any(child[1], child[1]);
+            return;
+        }
+        const End ea = end_of(m_tree, *m_clusters, a), eb = end_of(m_tree, *m_clusters, b);
+        if ((ea.element && eb.behind(*ea.element)) || (eb.element && ea.behind(*eb.element))) return;
+        const double gap = glm::length(eb.centre - ea.centre) - ea.radius - eb.radius;
+        if (gap > 0) {
+            const double k = cluster_transfer(ea, eb);  // A_a F_ab
+            const double la = luminance(a), lb = luminance(b), floor = m_options.cluster_floor * m_scale;
+            const double eps = m_options.link_epsilon;
+            const double bound_a = std::min(1.0, eb.area / (std::numbers::pi * gap * gap)) * lb;
+            const double bound_b = std::min(1.0, ea.area / (std::numbers::pi * gap * gap)) * la;
+            if (bound_a <= eps * (k / ea.area * lb + floor) && bound_b <= eps * (k / eb.area * la + floor)) {
+                links.push_back({a, b});
+                return;
+            }
+        }
+        // Split the larger of two clusters; an element meeting a cluster waits while the
+        // cluster is split, so two patches always meet as a pair and the element oracle alone
+        // decides how they are cut (as without clustering).
+        const bool take_a = ca && (!cb || ea.area >= eb.area);
+        const std::uint32_t s = take_a ? a : b, other = take_a ? b : a;
+        const auto child = m_clusters->cluster(s).child;
+        refine_any(child[0], other);
+        refine_any(child[1], other);
+    }
 
     /// A link hands every point of a the mean F(a -> b), so it errs at a's leaves by up to
     /// spread(F(x -> b)) B_b. Link when that is below link_epsilon of what the link brings,
@@ -202,10 +378,16 @@ private:
         return std::uint32_t(m_tree.node(i).first_child);
     }
 
+    double luminance(std::uint32_t ref) const {
+        return ClusterTree::is_cluster(ref) ? m_cb[ClusterTree::index(ref)].luminance() : m_b[ref].luminance();
+    }
+
     ElementTree& m_tree;
+    const ClusterTree* m_clusters;
     const HierarchicalOptions& m_options;
     std::vector<double> m_min_area;
     std::vector<Rgb>& m_b;
+    const std::vector<Rgb>& m_cb;
     double m_scale;
 };
 
@@ -219,7 +401,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     if (options.refine_rounds < 1) throw std::invalid_argument("hierarchical radiosity: at least one refinement round");
     const auto start = std::chrono::steady_clock::now();
     auto since_start = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0.0};
+    HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0, 0, 0, 0.0};
     ElementTree& tree = out.tree;
     std::vector<double> min_area(patches.size());
     for (std::size_t r = 0; r < patches.size(); ++r)
@@ -243,6 +425,26 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     res.solver = "hierarchical";
     res.form_factors = "raycast";
     const RaycastFormFactor ff(tree.geometry(), &visibility, options.form_factors);
+    std::optional<ClusterTree> clusters;
+    std::vector<Rgb> Bc;
+    if (options.clustering) {
+        clusters.emplace(patches);
+        // A cluster's radiosity: its members' area-weighted mean (children after parents).
+        const auto& C = clusters->clusters();
+        Bc.assign(C.size(), Rgb());
+        for (std::size_t c = C.size(); c-- > 0;) {
+            Rgb sum;
+            for (const std::uint32_t ref : C[c].child)
+                sum += ClusterTree::is_cluster(ref) ? Bc[ClusterTree::index(ref)] * C[ClusterTree::index(ref)].area
+                                                    : B[ref] * patches[ref].area;
+            Bc[c] = sum * (1.0 / C[c].area);
+        }
+        out.clusters = C.size();
+        out.initial_links = 1;
+    } else {
+        out.initial_links = patches.size() * (patches.size() - 1) / 2;
+    }
+    const ClusterTree* cluster_tree = clusters ? &*clusters : nullptr;
     std::vector<Link> links;
     std::vector<Rgb> H;
     for (int round = 0; round < options.refine_rounds; ++round) {
@@ -251,19 +453,34 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         for (std::uint32_t r = 0; r < patches.size(); ++r) scale += B[r].luminance() * patches[r].area;
         scale /= total_area;
         {
-            Refiner refiner(tree, options, min_area, B, scale);
-            for (std::uint32_t p = 0; p < patches.size(); ++p)
-                for (std::uint32_t q = p + 1; q < patches.size(); ++q) refiner.refine(p, q);
+            Refiner refiner(tree, cluster_tree, options, min_area, B, Bc, scale);
+            if (cluster_tree) {
+                refiner.refine_any(cluster_tree->root(), cluster_tree->root());
+            } else {
+                for (std::uint32_t p = 0; p < patches.size(); ++p)
+                    for (std::uint32_t q = p + 1; q < patches.size(); ++q) refiner.refine(p, q);
+            }
             links = std::move(refiner.links);
         }
         // Link form factors with visibility, in parallel (the tree does not change here).
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, links.size(), 256), [&](const auto& r) {
-            for (std::size_t k = r.begin(); k != r.end(); ++k) links[k].fab = float(ff.pair(links[k].a, links[k].b));
+            for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                const Link& l = links[k];
+                if (!ClusterTree::is_cluster(l.a) && !ClusterTree::is_cluster(l.b)) {
+                    links[k].fab = float(ff.pair(l.a, l.b));
+                    continue;
+                }
+                const End ea = end_of(tree, *cluster_tree, l.a), eb = end_of(tree, *cluster_tree, l.b);
+                double t = cluster_transfer(ea, eb);
+                if (t > 0 && options.cluster_visibility) t *= cluster_visible_fraction(ea, eb, visibility);
+                links[k].fab = float(t / ea.area);
+            }
         });
         out.refine_seconds += since_start() - round_start;
-        solve_links(tree, links, options, B, H, res);
+        solve_links(tree, cluster_tree, links, options, B, Bc, H, res);
         if (res.status == "interrupted") break;
     }
+    for (const Link& l : links) out.cluster_links += ClusterTree::is_cluster(l.a) || ClusterTree::is_cluster(l.b);
     out.links = links.size();
     finish_result(tree, B, H, out);
     res.seconds = since_start();

@@ -14,12 +14,15 @@ namespace bounce {
 class Visibility;
 
 struct HierarchicalOptions {
-    double link_epsilon = 0.1;  // link when the error bound is below this share of what the link brings
-    double link_floor = 1e-3;   // ... plus this share of the scene's mean radiosity (faint links stay coarse)
-    int refine_rounds = 3;      // refine links with the last solution's B, then solve; this many times
-    double min_area = 0.0;      // never split an element smaller than this (0: the patch area / 4^max_level)
-    int max_level = 4;          // quadtree depth under each patch
-    double tolerance = 1e-6;    // stop when no element's radiosity changes by more than this, relatively
+    double link_epsilon = 0.1;       // link when the error bound is below this share of what the link brings
+    double link_floor = 1e-3;        // ... plus this share of the scene's mean radiosity (faint links stay coarse)
+    int refine_rounds = 3;           // refine links with the last solution's B, then solve; this many times
+    double min_area = 0.0;           // never split an element smaller than this (0: the patch area / 4^max_level)
+    int max_level = 4;               // quadtree depth under each patch
+    bool clustering = true;          // start from the root cluster's self-link, not from every pair of patches
+    double cluster_floor = 0.1;      // a cluster link's error floor, a share of the scene's mean radiosity
+    bool cluster_visibility = true;  // cluster links: visible fraction of rays between member centroids
+    double tolerance = 1e-6;         // stop when no element's radiosity changes by more than this, relatively
     std::size_t max_iterations = 1000;
     FormFactorOptions form_factors;
     const std::atomic<bool>* cancel = nullptr;
@@ -29,7 +32,10 @@ struct HierarchicalSolution {
     ElementTree tree;
     std::vector<std::uint32_t> leaves;  // the elements of the result
     SolveResult result;                 // per leaf
-    std::size_t links = 0;              // element-to-element interactions
+    std::size_t links = 0;              // interactions, element and cluster links together
+    std::size_t cluster_links = 0;      // links with a cluster at one end or both
+    std::size_t clusters = 0;           // clusters above the patches (0 without clustering)
+    std::size_t initial_links = 0;      // pairs refinement starts from: 1, or N (N - 1) / 2 without clustering
     double refine_seconds = 0.0;        // building the links (form factors included), all rounds
 };
 
@@ -45,6 +51,21 @@ struct HierarchicalSolution {
 /// ambient estimate for B, later rounds the last solution's B. The solution iterates gather (every element collects F B
 /// over its links) and push-pull (irradiance pushed down to the leaves, radiosity pulled up as area-weighted means)
 /// until it settles. The link count grows like N, not N^2.
+///
+/// With `clustering` (Smits, Arvo and Greenberg 1994; Sillion 1995) the patches are the
+/// leaves of a binary cluster hierarchy (cluster_tree.h) and refinement starts from the root
+/// cluster linked with itself, so no step looks at every pair of patches. A self-link is
+/// always refined into its children's pairs. A link with a cluster at either end carries the
+/// isotropic point-to-point transfer between the two ends' centres, A_a F_ab = P_a P_b / (pi
+/// r^2) times the visible fraction of a few rays, where P is the area an end shows towards
+/// the other (cluster_tree.h bounds it); it is accepted when its worst-case error at any
+/// point, B_b A_b / (pi r_min^2) with r_min the gap between the bounding spheres (every member
+/// facing every other, Sillion 1995), is below `link_epsilon` of what it brings plus
+/// `cluster_floor` of the scene's mean radiosity, both ways round; else the larger cluster is
+/// split into its two children (an element waits for the cluster: two patches always meet as
+/// a pair, which the element oracle refines as above). A
+/// cluster's radiosity is its members' area-weighted mean (the power they emit over their
+/// area) and the irradiance it gathers reaches every member alike, so power is kept.
 HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const Visibility& visibility,
                                         const HierarchicalOptions& options);
 

@@ -433,6 +433,13 @@ TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
     const auto h = bounce_run("solve --solver hierarchical --max-level 2 -o " + (dir / "h.vtu").string());
     ASSERT_EQ(h.exit_code, 0) << h.err;
     EXPECT_NE(h.out.find("links"), std::string::npos) << h.out;
+    // Clustering is on unless --no-clustering: the summary counts the clusters.
+    EXPECT_NE(h.out.find(" clusters)"), std::string::npos) << h.out;
+    EXPECT_EQ(h.out.find(" 0 clusters)"), std::string::npos) << h.out;
+    const auto flat = bounce_run("solve --solver hierarchical --no-clustering --max-level 1 --gather none -o " +
+                                 (dir / "f.vtu").string());
+    ASSERT_EQ(flat.exit_code, 0) << flat.err;
+    EXPECT_NE(flat.out.find(" 0 clusters)"), std::string::npos) << flat.out;
     // A budget too small for the target: the solution is written, exit 3.
     const auto tight = bounce_run("solve -q --adaptive --patches 60 --target-error 0.001 --max-patches 200 -o " +
                                   (dir / "t.vtu").string());

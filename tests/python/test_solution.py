@@ -107,10 +107,12 @@ def test_to_meshio_and_render(tmp_path, scene):
     [
         ({"subdivide": False}, {"solver": "hierarchical", "max_level": 1, "gather": "none"},
          ["--no-subdivide", "--solver", "hierarchical", "--max-level", "1", "--gather", "none"]),
+        ({"subdivide": False}, {"solver": "hierarchical", "max_level": 1, "gather": "none", "clustering": False},
+         ["--no-subdivide", "--solver", "hierarchical", "--max-level", "1", "--gather", "none", "--no-clustering"]),
         ({"patches": 100}, {"adaptive": True, "max_patches": 2000},
          ["--patches", "100", "--adaptive", "--max-patches", "2000"]),
     ],
-    ids=["hierarchical", "adaptive-gathered"],
+    ids=["hierarchical", "hierarchical-unclustered", "adaptive-gathered"],
 )
 def test_element_solution_equals_command_line_vtu(tmp_path, run_cli, load_options, py_options, cli_options):
     cli_vtu = tmp_path / "cli.vtu"
