@@ -2,14 +2,17 @@
 #include "solver/form_factors/exact_form_factor.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
+#include "mesh/polygon.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/form_factors/polygon_form_factor.h"
+#include "solver/visibility/convex_blockers.h"
 #include "solver/visibility/shaft_culler.h"
 #include "solver/visibility/visibility.h"
 
@@ -93,6 +96,12 @@ void split(std::span<const glm::dvec3> p, const glm::dvec3& a, const glm::dvec3&
 
 double shadowed_point_factor(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> source,
                              const glm::dvec3& n_source, std::span<const std::span<const glm::dvec3>> blockers) {
+    return shadowed_point_factor(x, n, source, n_source, blockers, nullptr, {});
+}
+
+double shadowed_point_factor(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> source,
+                             const glm::dvec3& n_source, std::span<const std::span<const glm::dvec3>> blockers,
+                             const ConvexBlockers* solids, std::span<const std::uint32_t> which) {
     const glm::dvec3 o = source[0];
     const double hx = glm::dot(n_source, x - o);
     if (hx <= 0.0) return 0.0;
@@ -101,6 +110,23 @@ double shadowed_point_factor(const glm::dvec3& x, const glm::dvec3& n, std::span
     pieces.clear();
     pieces.v.assign(source.begin(), source.end());
     pieces.close();
+    const double source_area = glm::dot(newell(source), n_source);
+    // Cuts the (convex) shadow out of every piece: for each shadow edge, the part of a piece
+    // outside it is visible; what is inside every edge is hidden.
+    const auto subtract = [&]() {
+        const double orient = glm::dot(newell(shadow), n_source);
+        if (std::abs(orient) <= 1e-14 * source_area) return;  // edge-on: no area
+        const double sign = orient > 0 ? 1.0 : -1.0;
+        next.clear();
+        for (std::size_t k = 0; k < pieces.size(); ++k) {
+            rest.assign(pieces[k].begin(), pieces[k].end());
+            for (std::size_t e = 0; e < shadow.size() && !rest.empty(); ++e) {
+                const glm::dvec3 &a = shadow[e], &c = shadow[(e + 1) % shadow.size()];
+                split(rest, a, sign * glm::cross(n_source, c - a), rest, next);
+            }
+        }
+        std::swap(pieces, next);
+    };
     for (const auto& b : blockers) {
         // Only the part of the blocker between the source's plane and x's height can cut a
         // segment from x to the source (h in [0, hx]); a margin keeps the projection finite.
@@ -109,20 +135,13 @@ double shadowed_point_factor(const glm::dvec3& x, const glm::dvec3& n, std::span
         // Central projection from x onto the source's plane: convex stays convex.
         shadow.clear();
         for (const auto& z : slab) shadow.push_back(x + (z - x) * (hx / (hx - glm::dot(n_source, z - o))));
-        const double orient = glm::dot(newell(shadow), n_source);
-        if (std::abs(orient) <= 1e-14 * glm::dot(newell(source), n_source)) continue;  // edge-on: no area
-        const double sign = orient > 0 ? 1.0 : -1.0;
-        next.clear();
-        for (std::size_t k = 0; k < pieces.size(); ++k) {
-            // piece minus shadow: for each shadow edge, the part of what is left outside it is
-            // visible; what is inside every edge is hidden.
-            rest.assign(pieces[k].begin(), pieces[k].end());
-            for (std::size_t e = 0; e < shadow.size() && !rest.empty(); ++e) {
-                const glm::dvec3 &a = shadow[e], &c = shadow[(e + 1) % shadow.size()];
-                split(rest, a, sign * glm::cross(n_source, c - a), rest, next);
-            }
-        }
-        std::swap(pieces, next);
+        subtract();
+        if (pieces.size() == 0) return 0.0;
+    }
+    for (const std::uint32_t k : which) {
+        convex_shadow(solids->solid(k), x, o, n_source, shadow);
+        if (shadow.size() < 3) continue;
+        subtract();
         if (pieces.size() == 0) return 0.0;
     }
     double f = 0.0;
@@ -134,6 +153,7 @@ ExactFormFactor::ExactFormFactor(const std::vector<Patch>& patches, bool occlusi
                                  const Visibility* rays)
     : m_patches(patches),
       m_culler(occlusion ? std::make_unique<ShaftCuller>(patches) : nullptr),
+      m_solids(occlusion ? std::make_unique<ConvexBlockers>(patches) : nullptr),
       m_rays(rays),
       m_options(options) {
     if (!(options.exact_tolerance > 0) || !(options.visibility_tolerance > 0))
@@ -193,7 +213,7 @@ double ExactFormFactor::weighted_rays(const Patch& r, const Patch& s, double uno
 }
 
 double ExactFormFactor::partial(const Patch& r, const Patch& s, std::span<const std::uint32_t> blockers,
-                                double unoccluded, double& error) const {
+                                std::span<const std::uint32_t> solids, double unoccluded, double& error) const {
     thread_local Polygon rc, sc;
     thread_local std::vector<std::span<const glm::dvec3>> shadows;
     thread_local std::vector<AreaSample> q;
@@ -213,7 +233,8 @@ double ExactFormFactor::partial(const Patch& r, const Patch& s, std::span<const 
         for (const auto& p : q) {
             const double full = point_polygon_form_factor(p.point, r.normal, sc);
             if (full <= 0.0) continue;
-            sum += p.weight * (full - shadowed_point_factor(p.point, r.normal, sc, s.normal, shadows));
+            sum += p.weight *
+                   (full - shadowed_point_factor(p.point, r.normal, sc, s.normal, shadows, m_solids.get(), solids));
         }
         blocked = sum / r.area;
         if (l > 0) {
@@ -240,12 +261,31 @@ double ExactFormFactor::pair(std::size_t i, std::size_t j, double* error) const 
     thread_local std::vector<std::uint32_t> blockers;
     blockers.clear();
     if (m_culler) m_culler->candidates(i, j, blockers);
+    // Candidates that belong to a convex solid cast that solid's one shadow. A solid that
+    // holds r or s cannot block them: r and s face out of it, and every segment between them
+    // leaves it at once.
+    thread_local std::vector<std::uint32_t> solids;
+    solids.clear();
+    if (m_solids && !blockers.empty()) {
+        const std::int32_t sr = m_solids->solid_of(j_receives ? j : i), ss = m_solids->solid_of(j_receives ? i : j);
+        std::size_t keep = 0;
+        for (const std::uint32_t k : blockers) {
+            const std::int32_t sk = m_solids->solid_of(k);
+            if (sk < 0) {
+                blockers[keep++] = k;
+            } else if (sk != sr && sk != ss &&
+                       std::find(solids.begin(), solids.end(), std::uint32_t(sk)) == solids.end()) {
+                solids.push_back(std::uint32_t(sk));
+            }
+        }
+        blockers.resize(keep);
+    }
     double err = 0.0;
-    if (blockers.empty()) {
+    if (blockers.empty() && solids.empty()) {
         m_unoccluded.fetch_add(1, std::memory_order_relaxed);
     } else {
-        f = m_rays && blockers.size() > kMaxClippedBlockers ? weighted_rays(r, s, f, err)
-                                                            : partial(r, s, blockers, f, err);
+        f = m_rays && blockers.size() + solids.size() > kMaxClippedBlockers ? weighted_rays(r, s, f, err)
+                                                                            : partial(r, s, blockers, solids, f, err);
         (f > 0.0 ? m_partial : m_hidden).fetch_add(1, std::memory_order_relaxed);
         atomic_add(m_partial_af, 2.0 * r.area * f);
         atomic_add(m_partial_err, 2.0 * r.area * err);

@@ -13,6 +13,7 @@
 
 namespace bounce {
 
+class ConvexBlockers;
 class ShaftCuller;
 class Visibility;
 
@@ -38,8 +39,11 @@ struct PairTally {
 ///   integrated numerically is only the blocked part, F = F_unoccluded - (1/A) int blocked(x),
 ///   with orders 2, 4, 8 and then 8 per cell of 2 x 2 and 4 x 4 cells until two agree
 ///   within `visibility_tolerance` of F_unoccluded (the last difference is the pair's error
-///   estimate). A pair whose source is hidden from every point is 0. Pairs with more than
-///   kMaxClippedBlockers candidates use kernel-weighted rays instead (weighted_rays).
+///   estimate). A pair whose source is hidden from every point is 0. Candidates that belong
+///   to one convex solid (ConvexBlockers: a block, a box) cast that solid's single convex
+///   shadow, and a solid holding either end of the pair is dropped (both face out of it).
+///   Pairs with more than kMaxClippedBlockers shadows (solids and loose patches) use
+///   kernel-weighted rays instead (weighted_rays).
 /// No row is normalised. Each unordered pair is computed once, so reciprocity holds to rounding.
 /// With `occlusion` false every pair is taken as unoccluded (no culler is built).
 class ExactFormFactor final : public FormFactorEstimator {
@@ -68,12 +72,14 @@ private:
     /// weighted visible fraction. Orders 2, 3, 4 until two agree (the last difference is the
     /// error estimate; a visibility edge makes these converge only like 1/n).
     double weighted_rays(const Patch& r, const Patch& s, double unoccluded, double& error) const;
-    /// F from r to s, the blocked part integrated over r with shadows of `blockers`.
-    double partial(const Patch& r, const Patch& s, std::span<const std::uint32_t> blockers, double unoccluded,
-                   double& error) const;
+    /// F from r to s, the blocked part integrated over r with shadows of `blockers` (patches)
+    /// and of `solids` (indices into m_solids: one convex shadow each).
+    double partial(const Patch& r, const Patch& s, std::span<const std::uint32_t> blockers,
+                   std::span<const std::uint32_t> solids, double unoccluded, double& error) const;
 
     const std::vector<Patch>& m_patches;
     std::unique_ptr<ShaftCuller> m_culler;
+    std::unique_ptr<ConvexBlockers> m_solids;  // candidates of one convex solid cast one shadow
     const Visibility* m_rays;
     FormFactorOptions m_options;
     mutable std::atomic<std::uint64_t> m_unoccluded{0}, m_partial{0}, m_hidden{0};
@@ -86,5 +92,10 @@ private:
 /// the visible pieces. Exact for any number of convex blockers.
 double shadowed_point_factor(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> source,
                              const glm::dvec3& n_source, std::span<const std::span<const glm::dvec3>> blockers);
+/// The same with convex solids among the blockers: each solid's shadow is one convex polygon
+/// (convex_shadow), however many patches it has.
+double shadowed_point_factor(const glm::dvec3& x, const glm::dvec3& n, std::span<const glm::dvec3> source,
+                             const glm::dvec3& n_source, std::span<const std::span<const glm::dvec3>> blockers,
+                             const ConvexBlockers* solids, std::span<const std::uint32_t> which);
 
 }  // namespace bounce

@@ -31,21 +31,29 @@ constexpr double kWg[4] = {0.129484966168869693270611432679082, 0.27970539148927
                            0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
 
 /// int_a^b f by adaptive Gauss-Kronrod 7-15: an interval is accepted when |K15 - G7| <= tol,
-/// otherwise halved, each half with half the tolerance.
+/// otherwise halved, each half with half the tolerance. Two floors keep a tolerance below
+/// rounding from recursing without end (a thin sliver's tolerance can be 1e-14 of an integrand
+/// of size 1, and every level then halves everywhere, 2^40 intervals): an interval is also
+/// accepted when the difference is at the rounding level of the integral of |f| over it, and
+/// at most `budget` intervals are split in one call.
 template <class F>
-double adaptive_gk(const F& f, double a, double b, double tol, int depth = 0) {
+double adaptive_gk(const F& f, double a, double b, double tol, int& budget, int depth = 0) {
     const double c = 0.5 * (a + b), h = 0.5 * (b - a);
     const double fc = f(c);
-    double k = kWgk[7] * fc, g = kWg[3] * fc;
+    double k = kWgk[7] * fc, g = kWg[3] * fc, kabs = kWgk[7] * std::abs(fc);
     for (int i = 0; i < 7; ++i) {
         const double f1 = f(c - h * kXgk[i]), f2 = f(c + h * kXgk[i]);
         k += kWgk[i] * (f1 + f2);
+        kabs += kWgk[i] * (std::abs(f1) + std::abs(f2));
         if (i % 2 == 1) g += kWg[i / 2] * (f1 + f2);
     }
     k *= h;
     g *= h;
-    if (std::abs(k - g) <= tol || depth >= 40 || h < 1e-15) return k;
-    return adaptive_gk(f, a, c, 0.5 * tol, depth + 1) + adaptive_gk(f, c, b, 0.5 * tol, depth + 1);
+    kabs *= std::abs(h);
+    const double diff = std::abs(k - g);
+    if (diff <= tol || diff <= 1e-13 * kabs || depth >= 40 || h < 1e-15 || budget <= 0) return k;
+    --budget;
+    return adaptive_gk(f, a, c, 0.5 * tol, budget, depth + 1) + adaptive_gk(f, c, b, 0.5 * tol, budget, depth + 1);
 }
 
 /// int (u ln(u^2 + d^2) - 2u + 2d atan(u/d)) is the antiderivative of ln(u^2 + d^2); 0 at u = 0.
@@ -225,7 +233,8 @@ double contour_form_factor(std::span<const glm::dvec3> from, std::span<const glm
             for (int k = 0; k + 1 < m; ++k) {
                 const double len = cuts[k + 1] - cuts[k];
                 if (len <= 1e-14) continue;
-                integral += adaptive_gk(g, cuts[k], cuts[k + 1], tol * len);
+                int budget = 4096;
+                integral += adaptive_gk(g, cuts[k], cuts[k + 1], tol * len, budget);
             }
             sum += fe * integral;
         }

@@ -2,18 +2,24 @@
 // The exact method: pair classification by shaft culling, exact unoccluded factors, and
 // shadow-clipped visibility against closed forms.
 #include <gtest/gtest.h>
+#define GLM_ENABLE_EXPERIMENTAL
+#include <glm/gtx/string_cast.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
+#include "mesh/contact_cuts.h"
+#include "mesh/cornell_box.h"
 #include "mesh/patch_mesh.h"
 #include "mesh/validation_scenes.h"
 #include "solver/form_factors/exact_form_factor.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/patch_sampling.h"
 #include "solver/form_factors/reference_form_factors.h"
+#include "solver/visibility/convex_blockers.h"
 #include "solver/visibility/shaft_culler.h"
 #include "solver/visibility/visibility.h"
 
@@ -194,4 +200,95 @@ TEST(ExactFormFactor, DefaultSettingsMatchEveryRectangleTableTo1e9OnWholeSurface
         const ExactFormFactor ff(mesh.patches(), true, {});
         EXPECT_LT(std::abs(ff.pair(0, 1) / perpendicular_rectangles(h, w, l) - 1), 1e-9) << h << " " << w << " " << l;
     }
+}
+
+namespace {
+
+/// The cube [lo, lo + size]^3 with outward faces (closed_box's inward faces, reversed), all
+/// but the faces listed in `skip` (0: z = lo, the bottom).
+void add_solid_cube(Scene& s, glm::dvec3 lo, double size, std::vector<int> skip = {}) {
+    const Scene box = closed_box({size, size, size}, {"w", Rgb::gray(0.5), Rgb::gray(0)});
+    for (std::size_t k = 0; k < box.surfaces.size(); ++k) {
+        if (std::find(skip.begin(), skip.end(), int(k)) != skip.end()) continue;
+        Surface f = box.surfaces[k];
+        std::reverse(f.vertices.begin(), f.vertices.end());
+        for (auto& v : f.vertices) v += lo;
+        f.material = 0;
+        s.surfaces.push_back(f);
+    }
+}
+
+}  // namespace
+
+TEST(ConvexBlockers, TheCornellBlocksAreSolidsAndNothingElseIs) {
+    Scene s = make_cornell_box();
+    s.covered = find_covered_regions(s);
+    const PatchMesh mesh(s, MeshingOptions{});
+    const auto& P = mesh.patches();
+    const ConvexBlockers solids(P);
+    EXPECT_EQ(solids.solid_count(), 2u);
+    for (std::size_t i = 0; i < P.size(); ++i) {
+        const bool block = s.surfaces[std::size_t(P[i].surface)].object.find("block") != std::string::npos;
+        EXPECT_EQ(solids.solid_of(i) >= 0, block) << i << " " << s.surfaces[std::size_t(P[i].surface)].object;
+    }
+}
+
+TEST(ConvexBlockers, AnOpenBoxIsNoSolidUnlessItsOpenFaceRestsOnASurface) {
+    MeshingOptions o;
+    o.max_edge = 0.25;
+    Scene closed;
+    closed.materials = {{"w", Rgb::gray(0.5), Rgb()}};
+    add_solid_cube(closed, {0, 0, 0.5}, 1.0);
+    EXPECT_EQ(ConvexBlockers(PatchMesh(closed, o).patches()).solid_count(), 1u);
+    Scene open = closed;
+    open.surfaces.clear();
+    add_solid_cube(open, {0, 0, 0.5}, 1.0, {0});  // no bottom, floating: light gets in
+    EXPECT_EQ(ConvexBlockers(PatchMesh(open, o).patches()).solid_count(), 0u);
+    // The same open box standing on a floor that faces it: the floor closes it.
+    Scene standing = open;
+    for (auto& f : standing.surfaces)
+        for (auto& v : f.vertices) v.z -= 0.5;
+    standing.surfaces.push_back({{{-1, -1, 0}, {2, -1, 0}, {2, 2, 0}, {-1, 2, 0}}, 0, "floor", {"test", 0}});
+    const PatchMesh on_floor(standing, o);
+    const ConvexBlockers found(on_floor.patches());
+    ASSERT_EQ(found.solid_count(), 1u);
+    for (std::size_t i = 0; i < on_floor.size(); ++i)
+        EXPECT_EQ(found.solid_of(i) >= 0, on_floor.patches()[i].centre.z > 1e-9) << i;  // the floor is no member
+}
+
+TEST(ConvexBlockers, ASolidsShadowEqualsItsFacesShadowsAndTheProjection) {
+    // A cube [0,1]^2 x [1,2] over the plane z = 0, seen from (0.5, 0.5, 3): its top face
+    // projects to a square of side 3 (factor 3 / (3 - 2)), which holds the rest: area 9.
+    Scene s;
+    s.materials = {{"w", Rgb::gray(0.5), Rgb()}};
+    add_solid_cube(s, {0, 0, 1}, 1.0);
+    const PatchMesh mesh(s, MeshingOptions{.subdivide = false});
+    const auto& P = mesh.patches();
+    const ConvexBlockers solids(P);
+    ASSERT_EQ(solids.solid_count(), 1u);
+    std::vector<glm::dvec3> shadow;
+    convex_shadow(solids.solid(0), {0.5, 0.5, 3}, {0, 0, 0}, {0, 0, 1}, shadow);
+    ASSERT_GE(shadow.size(), 4u);
+    glm::dvec3 twice(0.0);
+    for (std::size_t k = 0; k < shadow.size(); ++k) twice += glm::cross(shadow[k], shadow[(k + 1) % shadow.size()]);
+    EXPECT_NEAR(0.5 * twice.z, 9.0, 1e-9);  // counter-clockwise about +z
+    // From points around the cube, also level with it (only part of it lies between the point
+    // and the plane), the point factor to a plate on z = 0 is the same with the solid's one
+    // shadow as with its six faces' shadows.
+    const std::vector<glm::dvec3> plate = {{-4, -4, 0}, {5, -4, 0}, {5, 5, 0}, {-4, 5, 0}};
+    std::vector<std::span<const glm::dvec3>> faces;
+    for (const auto& p : P) faces.push_back(p.polygon());
+    const std::vector<std::uint32_t> which = {0};
+    SplitMix64 rng{7};
+    int checked = 0;
+    for (int k = 0; k < 200; ++k) {
+        const glm::dvec3 x(-2 + 5 * rng.uniform(), -2 + 5 * rng.uniform(), 0.2 + 3.5 * rng.uniform());
+        if (x.x > -0.01 && x.x < 1.01 && x.y > -0.01 && x.y < 1.01 && x.z > 0.99 && x.z < 2.01) continue;  // inside
+        const glm::dvec3 n = glm::normalize(glm::dvec3(rng.uniform() - 0.5, rng.uniform() - 0.5, -1.0));
+        const double by_faces = shadowed_point_factor(x, n, plate, {0, 0, 1}, faces);
+        const double by_solid = shadowed_point_factor(x, n, plate, {0, 0, 1}, {}, &solids, which);
+        EXPECT_NEAR(by_solid, by_faces, 1e-12 + 1e-9 * by_faces) << glm::to_string(x);
+        checked += by_faces < shadowed_point_factor(x, n, plate, {0, 0, 1}, {}) - 1e-6;  // the cube hides some
+    }
+    EXPECT_GT(checked, 50);
 }

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/form_factors/polygon_form_factor.h"
 #include "solver/form_factors/reference_form_factors.h"
 
@@ -121,4 +123,34 @@ TEST(PolygonFormFactor, ContourSumsToOneInsideACube) {
     const double f =
         polygon_form_factor(lower(0, 1, 0, 1), up, upper(0, 1, 0, 1, 1), down) + 4 * perpendicular_rectangles(1, 1, 1);
     EXPECT_NEAR(f, 1.0, 1e-8);
+}
+
+TEST(PolygonFormFactor, ThinSliversFarBelowRoundingFinish) {
+    // Two facets of chair legs from a generated office (0.4 apart, nearly back to back). The
+    // contour rule's tolerance, scaled by their tiny area and factor, fell below rounding and
+    // Gauss-Kronrod halved every interval to depth 40: the call never returned. It must now
+    // agree with the point-to-polygon kernel integrated over the first facet (each clipped to
+    // the other's front: both are one-sided), and be reciprocal.
+    const Poly a = {{2.54734, 0, 1.828208}, {2.55659, 0.43, 1.820564}, {2.55659, 0, 1.820564}};
+    const Poly b = {{2.181753, 0, 1.680932}, {2.181753, 0.43, 1.680932}, {2.192998, 0.43, 1.685121}};
+    const auto normal = [](const Poly& p) { return glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0])); };
+    const double area_a = 0.5 * glm::length(glm::cross(a[1] - a[0], a[2] - a[0]));
+    const double area_b = 0.5 * glm::length(glm::cross(b[1] - b[0], b[2] - b[0]));
+    const double fab = polygon_form_factor(a, normal(a), b, normal(b), 1e-8);
+    const double fba = polygon_form_factor(b, normal(b), a, normal(a), 1e-8);
+    std::vector<glm::dvec3> ac, bc;
+    ASSERT_TRUE(clip_to_front(a, b[0], normal(b), 0.0, ac));
+    ASSERT_TRUE(clip_to_front(b, a[0], normal(a), 0.0, bc));
+    std::vector<AreaSample> q;
+    polygon_quadrature(ac, 16, 8, q);
+    double kernel = 0.0;
+    for (const auto& p : q) kernel += p.weight * point_polygon_form_factor(p.point, normal(a), bc);
+    kernel /= area_a;
+    EXPECT_TRUE(std::isfinite(fab));
+    EXPECT_GE(fab, 0.0);
+    // F is about 5e-12 (only slivers face each other); the contour rule's tolerance is relative
+    // to max(F estimate, 1e-6), so the errors are absolute: 1.5e-15 and 3e-18 measured.
+    EXPECT_GT(kernel, 1e-12);
+    EXPECT_NEAR(fab, kernel, 1e-14) << fab << " " << kernel;
+    EXPECT_NEAR(area_a * fab, area_b * fba, 1e-16);
 }

@@ -194,29 +194,32 @@ TEST(ClosedScenes, DefaultMethodTJunctionBoxRowsSumToOne) {
     EXPECT_LT(worst, 1e-6);
 }
 
-TEST(ClosedScenes, ClosedCornellBoxRowsAndFurnaceStayWithinTheirMeasuredBounds) {
+TEST(ClosedScenes, ClosedCornellBoxFurnaceWithin0Point1Percent) {
     // Blocks inside, so pairs are partly hidden. The exact method's rows, and the furnace (rho
-    // 0.9, E 1 everywhere: E / (1 - rho) = 10). Measured: rows within 4.7e-3, B within 0.42%.
-    // What limits them is the kernel-weighted rays of pairs with more than two candidate
-    // blockers (their error falls like 1/n); clipping every shadow instead gives rows within
-    // 4e-4 but takes 20x longer. The goal (rows 1e-4, B 0.1%) is not met yet.
+    // 0.9, E 1 everywhere: E / (1 - rho) = 10). Each block is one convex solid
+    // (ConvexBlockers), so a pair behind it clips one shadow per block, never the block's
+    // patches one by one or rays. Measured at visibility tolerance 1e-3: rows within 5.7e-4
+    // (they were 4.7e-3 with kernel-weighted rays for pairs behind a block's many patches),
+    // B within 0.056% (was 0.42%). The goal for rows, 1e-4, is not met: the residual is the
+    // same at tolerances 1e-3 to 1e-5 and sits in floor patches at the blocks' corners.
     MeshingOptions o;
     o.target_patches = 500;
     const PatchMesh mesh(closed_cornell_box(0.9, 1.0), o);
     const auto& P = mesh.patches();
     const auto vis = make_visibility("embree", P);
-    const ExactFormFactor exact(P, true, {}, vis.get());
-    const auto sums = row_sums(exact, P);
+    FormFactorOptions fo;
+    fo.visibility_tolerance = 1e-3;
+    const ExactFormFactor exact(P, true, fo, vis.get());
+    const auto F = FormFactorMatrix::build(exact, P.size(), std::size_t(1) << 30);
     const PairTally t = exact.tally();
+    const double rows = worst_deviation(F.row_sums());
     std::printf("closed cornell box, %zu patches, exact: worst |row sum - 1| %.3g (%llu unoccluded, %llu partial, "
                 "%llu hidden pairs)\n",
-                P.size(), worst_deviation(sums), (unsigned long long)t.unoccluded, (unsigned long long)t.partial,
+                P.size(), rows, (unsigned long long)t.unoccluded, (unsigned long long)t.partial,
                 (unsigned long long)t.hidden);
-    EXPECT_LT(worst_deviation(sums), 1e-2);
+    EXPECT_LT(rows, 1e-3);
     EXPECT_GT(t.partial, 0u);
-
-    const auto F = FormFactorMatrix::build(exact, P.size(), std::size_t(1) << 30);
-    expect_furnace(P, F, "closed cornell box, exact", {"gauss-seidel", "shooting"}, 10.0, 6e-3);
+    expect_furnace(P, F, "closed cornell box, exact", {"gauss-seidel", "shooting"}, 10.0, 1e-3);
 
     // The default method on the same box: its partly hidden pairs take the unweighted fraction
     // of rays, so rows stray further; reported, and bounded loosely.
