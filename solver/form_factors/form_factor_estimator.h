@@ -25,7 +25,7 @@ struct FormFactorOptions {
     bool hemicube_jitter = false;        // rotate each hemicube randomly about the normal (seeded)
     bool hemicube_exact_kernel = false;  // hemicube: pixels give the seen share, not F (Baum et al.)
     double exact_tolerance = 1e-8;       // exact method: relative error of unoccluded pairs
-    double visibility_tolerance = 1e-4;  // exact method: partial pairs stop when two orders agree
+    double visibility_tolerance = 1e-3;  // exact method: partial pairs stop when two orders agree
                                          // within this fraction of the unoccluded factor
 };
 
