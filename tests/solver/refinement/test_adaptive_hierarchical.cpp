@@ -14,6 +14,7 @@
 #include "solver/refinement/adaptive_radiosity.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
+#include "solver/refinement/full_matrix_solution.h"
 
 using namespace bounce;
 
@@ -84,13 +85,9 @@ TEST(Hierarchical, AgreesWithTheFullMatrixOnItsElementsWithinTheOracleTolerance)
     h.max_level = 3;
     const HierarchicalSolution s = solve_hierarchical(P, *vis, h);
     ASSERT_TRUE(s.result.converged);
-    std::vector<Patch> leaves;
-    for (const auto l : s.leaves) leaves.push_back(s.tree.geometry()[l]);
-    const auto ff = make_form_factor_estimator("raycast", leaves, vis.get(), {});
-    const auto F = FormFactorMatrix::build(*ff, leaves.size(), std::size_t(1) << 31);
-    SolverOptions so;
-    so.tolerance = 1e-9;
-    const SolveResult full = make_solver("gauss-seidel", {leaves, ff.get(), &F}, so)->solve();
+    const auto oracle = test::full_matrix_solution(s, *vis, "gauss-seidel");
+    const std::vector<Patch>& leaves = oracle.leaves;
+    const SolveResult& full = oracle.result;
     double num = 0.0, den = 0.0;
     for (std::size_t i = 0; i < leaves.size(); ++i)
         for (int c = 0; c < 3; ++c) {

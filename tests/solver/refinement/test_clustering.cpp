@@ -14,6 +14,7 @@
 #include "solver/refinement/cluster_tree.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
+#include "solver/refinement/full_matrix_solution.h"
 
 using namespace bounce;
 
@@ -180,13 +181,9 @@ TEST(Clustering, AgreesWithTheFullMatrixOnAClosedBox) {
     const HierarchicalSolution s = solve_hierarchical(P, *vis, h);
     ASSERT_TRUE(s.result.converged);
     EXPECT_GT(s.cluster_links, 0u);
-    std::vector<Patch> leaves;
-    for (const auto l : s.leaves) leaves.push_back(s.tree.geometry()[l]);
-    const auto ff = make_form_factor_estimator("raycast", leaves, vis.get(), {});
-    const auto F = FormFactorMatrix::build(*ff, leaves.size(), std::size_t(1) << 31);
-    SolverOptions so;
-    so.tolerance = 1e-9;
-    const SolveResult full = make_solver("direct", {leaves, ff.get(), &F}, so)->solve();
+    const auto oracle = test::full_matrix_solution(s, *vis, "direct");
+    const std::vector<Patch>& leaves = oracle.leaves;
+    const SolveResult& full = oracle.result;
     const Difference d = compare(leaves, s.result.radiosity, full.radiosity);
     std::printf("%zu elements, %zu links (%zu with a cluster): difference from the full matrix RMS %.4f, worst %.4f\n",
                 leaves.size(), s.links, s.cluster_links, d.rms, d.worst);
