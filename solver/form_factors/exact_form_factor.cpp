@@ -223,8 +223,11 @@ double ExactFormFactor::partial(const Patch& r, const Patch& s, std::span<const 
         return 0.0;
     shadows.clear();
     for (const std::uint32_t k : blockers) shadows.push_back(m_patches[k].polygon());
-    // Orders: n x n points on the whole receiver, then 8 x 8 per cell of a finer grid.
-    constexpr int levels[][2] = {{1, 2}, {1, 4}, {1, 8}, {2, 8}, {4, 8}};
+    // Orders n x n per cell of a 4 x 4 grid on the receiver, then 8 x 8 per cell of finer
+    // grids. Starting from one cell, a receiver touching a block's corner had its narrow
+    // shadow missed by two agreeing coarse rules: the closed Cornell box's rows stayed 5.7e-4
+    // off at every tolerance (4 x 4 cells: 3.4e-5, at 2.6x the time of partial pairs).
+    constexpr int levels[][2] = {{4, 2}, {4, 4}, {4, 8}, {8, 8}, {16, 8}};
     double prev = 0.0, blocked = 0.0;
     error = unoccluded;
     for (int l = 0; l < 5; ++l) {

@@ -37,9 +37,9 @@ struct PairTally {
 ///   cut out of the source, so the exact point-to-polygon kernel is taken over the part of the
 ///   source that x sees (shadow-polygon clipping, as in View3D, Walton 2002). What is
 ///   integrated numerically is only the blocked part, F = F_unoccluded - (1/A) int blocked(x),
-///   with orders 2, 4, 8 and then 8 per cell of 2 x 2 and 4 x 4 cells until two agree
-///   within `visibility_tolerance` of F_unoccluded (the last difference is the pair's error
-///   estimate). A pair whose source is hidden from every point is 0. Candidates that belong
+///   with orders 2, 4, 8 per cell of 4 x 4 cells, then 8 per cell of 8 x 8 and 16 x 16 cells,
+///   until two agree within `visibility_tolerance` of F_unoccluded (the last difference is the
+///   pair's error estimate). A pair whose source is hidden from every point is 0. Candidates that belong
 ///   to one convex solid (ConvexBlockers: a block, a box) cast that solid's single convex
 ///   shadow, and a solid holding either end of the pair is dropped (both face out of it).
 ///   Pairs with more than kMaxClippedBlockers shadows (solids and loose patches) use
