@@ -129,10 +129,10 @@ double area_gauss(std::span<const glm::dvec3> r, const glm::dvec3& n_r, std::spa
 
 }  // namespace
 
-int separated_gauss_order(double gap, double radius, double rel_tol) {
-    if (!(gap > 0.0) || !(radius > 0.0)) return 0;
-    const double g = gap / radius, rho = g + std::sqrt(g * g + 1.0);
-    return std::max(1, int(std::ceil(std::log(1.0 / rel_tol) / (2.0 * std::log(rho)))));
+double separation_rho(double gap, double radius) {
+    if (!(gap > 0.0) || !(radius > 0.0)) return 0.0;
+    const double g = gap / radius;
+    return g + std::sqrt(g * g + 1.0);
 }
 
 double separated_form_factor(std::span<const AreaSample> from, const glm::dvec3& n_from, std::span<const AreaSample> to,

@@ -39,17 +39,18 @@ double polygon_form_factor(std::span<const glm::dvec3> from, const glm::dvec3& n
 /// Both polygons must lie in front of each other (no clipping here).
 double contour_form_factor(std::span<const glm::dvec3> from, std::span<const glm::dvec3> to, double rel_tol = 1e-11);
 
-/// The Gauss-Legendre order per side that integrates the form-factor kernel over a polygon of
-/// circumradius `radius` to about `rel_tol`, seen from at least `gap` away: the kernel is
-/// analytic within the Bernstein ellipse rho = g + sqrt(g^2 + 1), g = gap / radius, so the
-/// n-point rule errs like rho^(-2n) (Davis and Rabinowitz, "Methods of numerical
-/// integration", 4.6). 0 when gap <= 0 (the rule does not apply).
-int separated_gauss_order(double gap, double radius, double rel_tol);
+/// The Bernstein ellipse parameter of the form-factor kernel over a polygon of circumradius
+/// `radius` seen from at least `gap` away: the kernel is analytic within the ellipse
+/// rho = g + sqrt(g^2 + 1), g = gap / radius, so the n-point Gauss-Legendre rule per side errs
+/// like rho^(-2n) and order n reaches a relative tolerance tol once rho^(2n) >= 1 / tol (Davis
+/// and Rabinowitz, "Methods of numerical integration", 4.6). 0 when gap <= 0 (the rule does
+/// not apply).
+double separation_rho(double gap, double radius);
 
 /// F_from->to of a well-separated pair, both polygons in front of each other, from
 /// quadrature points whose weights are fractions of each polygon's area (patch_quadrature):
 /// the product rule of the point-to-point kernel, F = A_to sum w_x w_y cos t_x cos t_y /
-/// (pi r^2). It needs no trigonometry, so at the orders of separated_gauss_order it is several
+/// (pi r^2). It needs no trigonometry, so at the orders separation_rho predicts it is several
 /// times faster than integrating the point-to-polygon kernel, to the same tolerance.
 double separated_form_factor(std::span<const AreaSample> from, const glm::dvec3& n_from, std::span<const AreaSample> to,
                              double area_to, const glm::dvec3& n_to);

@@ -28,8 +28,8 @@ UnoccludedFormFactor::UnoccludedFormFactor(const std::vector<Patch>& patches, do
 }
 
 int UnoccludedFormFactor::cached_order(double gap, double radius) const {
-    if (!(gap > 0.0) || !(radius > 0.0)) return 0;
-    const double g = gap / radius, rho = g + std::sqrt(g * g + 1.0);
+    const double rho = separation_rho(gap, radius);
+    if (rho == 0.0) return 0;
     for (int n = 1; n <= kCachedOrders; ++n)
         if (rho >= m_rho_needed[std::size_t(n)]) return n;
     return kCachedOrders + 1;

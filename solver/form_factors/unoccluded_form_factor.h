@@ -12,7 +12,7 @@ namespace bounce {
 
 /// The unoccluded form factor between two patches of a list, to a relative tolerance: the
 /// product Gauss-Legendre rule of the point-to-point kernel at the orders the pair's separation
-/// predicts (separated_gauss_order, separated_form_factor) when the pair is well separated and
+/// predicts (separation_rho, separated_form_factor) when the pair is well separated and
 /// each is wholly in front of the other, else polygon_form_factor (the point-to-polygon kernel,
 /// or the contour integral for touching pairs; it clips straddling pairs). The one-point rule it
 /// replaced erred with one sign on every far pair: rows of a closed box summed to 1.001-1.003.
@@ -33,8 +33,8 @@ private:
     static constexpr int kCachedOrders = 4;
     static constexpr std::size_t kCachedPoints = 1 + 4 + 9 + 16;
 
-    /// The order separated_gauss_order gives, capped at kCachedOrders + 1, without a logarithm:
-    /// order n suffices when rho^(2n) >= 1/tol, rho = g + sqrt(g^2 + 1), g = gap / radius.
+    /// The smallest Gauss order n with separation_rho^(2n) >= 1/tol, capped at kCachedOrders +
+    /// 1 (0 when the pair is not separated), from thresholds computed once, not a logarithm.
     int cached_order(double gap, double radius) const;
 
     const std::vector<Patch>& m_patches;

@@ -102,6 +102,23 @@ void ShaftCuller::build(std::uint32_t node, std::uint32_t begin, std::uint32_t e
     build(left + 1, mid, end);
 }
 
+namespace {
+
+/// The vertices of both patches: the shaft is their convex hull.
+struct ShaftCorners {
+    std::array<glm::dvec3, 8> pts;
+    int count = 0;
+};
+
+ShaftCorners shaft_corners(const Patch& p, const Patch& q) {
+    ShaftCorners c;
+    for (int k = 0; k < p.vertex_count; ++k) c.pts[std::size_t(c.count++)] = p.vertices[k];
+    for (int k = 0; k < q.vertex_count; ++k) c.pts[std::size_t(c.count++)] = q.vertices[k];
+    return c;
+}
+
+}  // namespace
+
 bool ShaftCuller::beside(const Group& g, const glm::dvec3* pts, int np) const {
     // The whole shaft on one side of the group's plane (or on it, within the tolerance less
     // the members' spread about the plane): nothing in the group blocks.
@@ -115,14 +132,9 @@ bool ShaftCuller::beside(const Group& g, const glm::dvec3* pts, int np) const {
 }
 
 bool ShaftCuller::clear(std::size_t i, std::size_t j) const {
-    const Patch& p = m_patches[i];
-    const Patch& q = m_patches[j];
-    std::array<glm::dvec3, 8> pts;
-    int np = 0;
-    for (int k = 0; k < p.vertex_count; ++k) pts[np++] = p.vertices[k];
-    for (int k = 0; k < q.vertex_count; ++k) pts[np++] = q.vertices[k];
+    const ShaftCorners c = shaft_corners(m_patches[i], m_patches[j]);
     for (const Group& g : m_groups)
-        if (!beside(g, pts.data(), np)) return false;
+        if (!beside(g, c.pts.data(), c.count)) return false;
     return true;
 }
 
@@ -134,10 +146,9 @@ void ShaftCuller::candidates(std::size_t i, std::size_t j, std::vector<std::uint
     const double tol = m_tol;
     // The shaft: the box of both patches and the supporting planes of their convex hull.
     const glm::dvec3 lo = glm::min(m_lo[i], m_lo[j]) - tol, hi = glm::max(m_hi[i], m_hi[j]) + tol;
-    std::array<glm::dvec3, 8> pts;
-    int np = 0;
-    for (int k = 0; k < p.vertex_count; ++k) pts[np++] = p.vertices[k];
-    for (int k = 0; k < q.vertex_count; ++k) pts[np++] = q.vertices[k];
+    const ShaftCorners c = shaft_corners(p, q);
+    const auto& pts = c.pts;
+    const int np = c.count;
     std::array<Plane, 2 + 2 * 16> planes;
     int nplanes = 0;
     planes[nplanes++] = {p.normal, glm::dot(p.normal, p.vertices[0])};
