@@ -53,6 +53,10 @@ inline bool wholly_in_front(const Patch& p, const Patch& q) {
 /// True when no vertex of `q` is strictly in front of `p`: p cannot send power to q (and, by
 /// reciprocity, q none to p). The tolerance absorbs rounding of coplanar neighbours.
 inline bool wholly_behind(const Patch& p, const Patch& q) {
+    // q's centre is a convex combination of its vertices, so a centre in front means a vertex
+    // in front: the common answer without the loop (or the root).
+    const double hc = p.height(q.centre);
+    if (hc > 0 && hc * hc > 1e-24 * (p.area + q.area)) return false;
     const double tol = 1e-12 * std::sqrt(p.area + q.area);
     for (int k = 0; k < q.vertex_count; ++k)
         if (p.height(q.vertices[k]) > tol) return false;

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 
@@ -46,11 +47,12 @@ FormFactorMatrix FormFactorMatrix::build(const FormFactorEstimator& estimator, s
     });
     if (cancel && cancel->load()) throw Interrupted("interrupted while computing form factors");
     if (upper_only) {
+        std::vector<double> area(n);  // once, not a virtual call per entry
+        for (std::size_t i = 0; i < n; ++i) area[i] = estimator.patch_area(i);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                const double ai = estimator.patch_area(i);
-                for (std::size_t j = 0; j < i; ++j)
-                    m.m_f[i * n + j] = float(double(m.m_f[j * n + i]) * estimator.patch_area(j) / ai);
+                const double ai = area[i];
+                for (std::size_t j = 0; j < i; ++j) m.m_f[i * n + j] = float(double(m.m_f[j * n + i]) * area[j] / ai);
                 m.m_f[i * n + i] = 0.0f;
             }
         });

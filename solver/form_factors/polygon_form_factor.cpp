@@ -135,18 +135,70 @@ double separation_rho(double gap, double radius) {
     return g + std::sqrt(g * g + 1.0);
 }
 
+namespace {
+
+/// The product rule's double sum (separated_form_factor): the receiver points in plain arrays,
+/// padded to blocks of four (zero weight), so that each block of the inner loop, a difference,
+/// three dot products and one division, is one vector operation: this loop is most of a
+/// closed room's form-factor time.
+[[gnu::always_inline]] inline double separated_sum(std::span<const AreaSample> from, const glm::dvec3& n_from,
+                                                   std::span<const AreaSample> to, const glm::dvec3& n_to) {
+    constexpr std::size_t kBlock = 64, kLanes = 4;
+    alignas(32) std::array<double, kBlock> yx, yy, yz, yw;
+    std::array<double, kLanes> acc{};
+    for (std::size_t first = 0; first < to.size(); first += kBlock) {
+        const std::size_t m = std::min(kBlock, to.size() - first);
+        const std::size_t padded = (m + kLanes - 1) / kLanes * kLanes;
+        for (std::size_t k = 0; k < m; ++k) {
+            const AreaSample& y = to[first + k];
+            yx[k] = y.point.x;
+            yy[k] = y.point.y;
+            yz[k] = y.point.z;
+            yw[k] = y.weight;
+        }
+        for (std::size_t k = m; k < padded; ++k) {  // the last point again, weight 0: finite, adds nothing
+            yx[k] = yx[m - 1];
+            yy[k] = yy[m - 1];
+            yz[k] = yz[m - 1];
+            yw[k] = 0.0;
+        }
+        for (const auto& x : from) {
+            const double wx = x.weight;
+            for (std::size_t k = 0; k < padded; k += kLanes)
+                for (std::size_t l = 0; l < kLanes; ++l) {
+                    const double dx = yx[k + l] - x.point.x, dy = yy[k + l] - x.point.y, dz = yz[k + l] - x.point.z;
+                    const double d2 = dx * dx + dy * dy + dz * dz;
+                    const double cos_from = n_from.x * dx + n_from.y * dy + n_from.z * dz;
+                    const double cos_to = n_to.x * dx + n_to.y * dy + n_to.z * dz;
+                    acc[l] -= (wx * yw[k + l]) * (cos_from * cos_to) / (d2 * d2);
+                }
+        }
+    }
+    return (acc[0] + acc[1]) + (acc[2] + acc[3]);
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+// The same loop compiled for AVX2 and FMA, chosen at run time where the CPU has them: four
+// kernels per instruction instead of two, in the one portable binary.
+[[gnu::target("avx2,fma")]] double separated_sum_avx2(std::span<const AreaSample> from, const glm::dvec3& n_from,
+                                                      std::span<const AreaSample> to, const glm::dvec3& n_to) {
+    return separated_sum(from, n_from, to, n_to);
+}
+const bool kHasAvx2 = [] {
+    __builtin_cpu_init();  // static initialisers may run before the library's own
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+}();
+#endif
+
+}  // namespace
+
 double separated_form_factor(std::span<const AreaSample> from, const glm::dvec3& n_from, std::span<const AreaSample> to,
                              double area_to, const glm::dvec3& n_to) {
-    double sum = 0.0;
-    for (const auto& x : from) {
-        double inner = 0.0;
-        for (const auto& y : to) {
-            const glm::dvec3 d = y.point - x.point;
-            const double d2 = glm::dot(d, d);
-            inner += y.weight * (glm::dot(n_from, d) * -glm::dot(n_to, d)) / (d2 * d2);
-        }
-        sum += x.weight * inner;
-    }
+#if defined(__GNUC__) && defined(__x86_64__)
+    const double sum = kHasAvx2 ? separated_sum_avx2(from, n_from, to, n_to) : separated_sum(from, n_from, to, n_to);
+#else
+    const double sum = separated_sum(from, n_from, to, n_to);
+#endif
     return std::max(0.0, sum * area_to / kPi);
 }
 

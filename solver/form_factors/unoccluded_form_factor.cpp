@@ -17,7 +17,12 @@ UnoccludedFormFactor::UnoccludedFormFactor(const std::vector<Patch>& patches, do
     // Gauss points of orders 1..kCachedOrders per patch, end to end: far pairs need only these.
     m_points.reserve(patches.size() * kCachedPoints);
     m_radius.reserve(patches.size());
-    for (int n = 1; n <= kCachedOrders; ++n) m_rho_needed[std::size_t(n)] = std::pow(1.0 / tolerance, 1.0 / (2.0 * n));
+    // Order n serves once separation_rho(gap, r)^(2n) >= 1/tol. rho = g + sqrt(g^2 + 1) grows with
+    // g = gap / r and inverts to g = (rho - 1/rho) / 2, so the test is gap >= r g_n: no root per pair.
+    for (int n = 1; n <= kProductOrders; ++n) {
+        const double rho = std::pow(1.0 / tolerance, 1.0 / (2.0 * n));
+        m_gap_needed[std::size_t(n)] = 0.5 * (rho - 1.0 / rho);
+    }
     thread_local std::vector<AreaSample> q;
     for (const Patch& p : patches)
         for (int n = 1; n <= kCachedOrders; ++n) {
@@ -28,21 +33,21 @@ UnoccludedFormFactor::UnoccludedFormFactor(const std::vector<Patch>& patches, do
 }
 
 int UnoccludedFormFactor::cached_order(double gap, double radius) const {
-    const double rho = separation_rho(gap, radius);
-    if (rho == 0.0) return 0;
-    for (int n = 1; n <= kCachedOrders; ++n)
-        if (rho >= m_rho_needed[std::size_t(n)]) return n;
-    return kCachedOrders + 1;
+    if (!(gap > 0.0) || !(radius > 0.0)) return 0;  // not separated (separation_rho is 0)
+    for (int n = 1; n <= kProductOrders; ++n)
+        if (gap >= m_gap_needed[std::size_t(n)] * radius) return n;
+    return kProductOrders + 1;
 }
 
 std::span<const AreaSample> UnoccludedFormFactor::gauss_points(std::size_t patch, int n,
                                                                std::vector<AreaSample>& scratch) const {
     // Patches added after construction (refinement appends elements) are not cached.
-    if (patch >= m_points.size() / kCachedPoints) {
+    if (n > kCachedOrders || patch >= m_points.size() / kCachedPoints) {
         patch_quadrature(m_patches[patch], n, scratch);
         return scratch;
     }
-    const std::size_t first = patch * kCachedPoints + std::size_t((n - 1) * n * (2 * n - 1) / 6);  // sum k^2, k < n
+    static constexpr std::array<std::size_t, kCachedOrders + 1> kFirst = {0, 0, 1, 5, 14};  // sum k^2, k < n
+    const std::size_t first = patch * kCachedPoints + kFirst[std::size_t(n)];
     return {m_points.data() + first, std::size_t(n * n)};
 }
 
@@ -58,8 +63,12 @@ double UnoccludedFormFactor::operator()(std::size_t from, std::size_t to) const 
     const int na = cached_order(gap, ra), nb = cached_order(gap, rb);
     // Near pairs (high predicted orders) cost less by the point-to-polygon kernel or, when
     // touching, the contour integral; both are in polygon_form_factor.
-    if (na == 0 || nb == 0 || na > kCachedOrders || nb > kCachedOrders || !wholly_in_front(a, b) ||
-        !wholly_in_front(b, a))
+    // In front by the bounding spheres first (one dot product: a sphere about q's centre of
+    // radius rq holds q), by the vertices only when that is not enough.
+    const auto in_front = [](const Patch& p, const Patch& q, double rq) {
+        return p.height(q.centre) >= rq || wholly_in_front(p, q);
+    };
+    if (na == 0 || nb == 0 || na > kProductOrders || nb > kProductOrders || !in_front(a, b, rb) || !in_front(b, a, ra))
         return polygon_form_factor(a.polygon(), a.normal, b.polygon(), b.normal, tol);
     thread_local std::vector<AreaSample> qa, qb;
     return separated_form_factor(gauss_points(from, na, qa), a.normal, gauss_points(to, nb, qb), b.area, b.normal);

@@ -25,23 +25,29 @@ public:
     double operator()(std::size_t from, std::size_t to) const;
 
 private:
-    /// Gauss points of order n <= kCachedOrders (weights: fractions of the area) on a patch:
-    /// from the cache, or computed into `scratch` for patches added after construction.
+    /// Gauss points of order n <= kProductOrders (weights: fractions of the area) on a patch:
+    /// from the cache (n <= kCachedOrders), or computed into `scratch` (higher orders, and
+    /// patches added after construction).
     std::span<const AreaSample> gauss_points(std::size_t patch, int n, std::vector<AreaSample>& scratch) const;
-    /// Orders above this go to polygon_form_factor: near pairs, where the point-to-polygon
-    /// kernel needs fewer points than the product rule (n^2 against n^4).
+    /// Orders kept per patch: what far pairs need, at 30 points (960 bytes) a patch.
     static constexpr int kCachedOrders = 4;
     static constexpr std::size_t kCachedPoints = 1 + 4 + 9 + 16;
+    /// Orders above this go to polygon_form_factor: near pairs, where the point-to-polygon
+    /// kernel needs fewer points than the product rule (n^2 against n^4). At 6 the product
+    /// rule's n^4 = 1296 vectorised kernels still cost less than the point-to-polygon rule's
+    /// trigonometry at the orders it takes (measured on the empty 20 x 20 cube).
+    static constexpr int kProductOrders = 6;
 
-    /// The smallest Gauss order n with separation_rho^(2n) >= 1/tol, capped at kCachedOrders +
-    /// 1 (0 when the pair is not separated), from thresholds computed once, not a logarithm.
+    /// The smallest Gauss order n with separation_rho^(2n) >= 1/tol, capped at kProductOrders +
+    /// 1 (0 when the pair is not separated), from gap thresholds computed once: no logarithm
+    /// or root per pair.
     int cached_order(double gap, double radius) const;
 
     const std::vector<Patch>& m_patches;
     double m_tolerance;
-    std::vector<AreaSample> m_points;                      // kCachedPoints per patch: orders 1, 2, .. kCachedOrders
-    std::vector<double> m_radius;                          // circumradius per cached patch
-    std::array<double, kCachedOrders + 1> m_rho_needed{};  // [n]: the smallest rho order n serves
+    std::vector<AreaSample> m_points;                       // kCachedPoints per patch: orders 1, 2, .. kCachedOrders
+    std::vector<double> m_radius;                           // circumradius per cached patch
+    std::array<double, kProductOrders + 1> m_gap_needed{};  // [n]: the smallest gap / radius order n serves
 };
 
 }  // namespace bounce

@@ -59,6 +59,16 @@ ShaftCuller::ShaftCuller(const std::vector<Patch>& patches) : m_patches(patches)
         for (int v = 0; v < patches[k].vertex_count; ++v)
             g.spread = std::max(g.spread, std::abs(glm::dot(g.normal, patches[k].vertices[v]) - g.offset));
     }
+    // A group beside every vertex of the scene is beside every shaft: test it once here, not
+    // per pair (equivalent to the per-pair test, so no answer changes).
+    std::size_t kept = 0;
+    for (std::size_t g = 0; g < m_groups.size(); ++g) {
+        if (supporting(m_groups[g], patches, lo, hi)) continue;
+        m_groups[kept] = m_groups[g];
+        members[kept++] = std::move(members[g]);
+    }
+    m_groups.resize(kept);
+    members.resize(kept);
     m_nodes.reserve(2 * n + m_groups.size());
     for (std::size_t g = 0; g < m_groups.size(); ++g) {
         const std::uint32_t begin = std::uint32_t(m_order.size());
@@ -67,6 +77,23 @@ ShaftCuller::ShaftCuller(const std::vector<Patch>& patches) : m_patches(patches)
         m_nodes.push_back({});
         build(m_groups[g].root, begin, std::uint32_t(m_order.size()));
     }
+}
+
+bool ShaftCuller::supporting(const Group& g, const std::vector<Patch>& patches, const glm::dvec3& lo,
+                             const glm::dvec3& hi) const {
+    // The scene's box first (enough for axis-aligned rooms), then its vertices, stopping at the
+    // first one on the wrong side (quick in cluttered scenes, where most planes are crossed).
+    const double top = box_max(lo, hi, g.normal) - g.offset, bottom = -box_max(lo, hi, -g.normal) - g.offset;
+    const double above = g.spread - m_tol, below = m_tol - g.spread;
+    if (bottom >= above || top <= below) return true;
+    bool pos = true, neg = true;
+    for (std::size_t k = 0; k < patches.size() && (pos || neg); ++k)
+        for (int v = 0; v < patches[k].vertex_count; ++v) {
+            const double h = glm::dot(g.normal, patches[k].vertices[v]) - g.offset;
+            pos &= h >= above;
+            neg &= h <= below;
+        }
+    return pos || neg;
 }
 
 void ShaftCuller::build(std::uint32_t node, std::uint32_t begin, std::uint32_t end) {
@@ -132,6 +159,7 @@ bool ShaftCuller::beside(const Group& g, const glm::dvec3* pts, int np) const {
 }
 
 bool ShaftCuller::clear(std::size_t i, std::size_t j) const {
+    if (m_groups.empty()) return true;  // every plane supports the scene: a convex room
     const ShaftCorners c = shaft_corners(m_patches[i], m_patches[j]);
     for (const Group& g : m_groups)
         if (!beside(g, c.pts.data(), c.count)) return false;

@@ -50,6 +50,11 @@ private:
         double spread;       // the members' largest distance from that plane
     };
     void build(std::uint32_t node, std::uint32_t begin, std::uint32_t end);
+    /// True when every vertex of the scene lies beside g's plane (on its front, or all behind):
+    /// then so does every shaft, whose corners are scene vertices, and g never blocks. The walls
+    /// of a convex room are such planes (View3D's prescreen finds the same: no rays at all).
+    bool supporting(const Group& g, const std::vector<Patch>& patches, const glm::dvec3& lo,
+                    const glm::dvec3& hi) const;
     /// True when the points (the pair's vertices) lie on one side of g's plane, beyond its spread.
     bool beside(const Group& g, const glm::dvec3* pts, int np) const;
 
@@ -57,8 +62,8 @@ private:
     std::vector<glm::dvec3> m_lo, m_hi;  // per-patch boxes
     std::vector<std::uint32_t> m_order;  // patch indices, leaves are ranges of it
     std::vector<Node> m_nodes;           // the groups' trees
-    std::vector<Group> m_groups;
-    double m_tol = 0.0;  // 1e-9 of the scene's diagonal: "on the plane"
+    std::vector<Group> m_groups;         // only the planes some shaft may cross (supporting ones are left out)
+    double m_tol = 0.0;                  // 1e-9 of the scene's diagonal: "on the plane"
 };
 
 }  // namespace bounce

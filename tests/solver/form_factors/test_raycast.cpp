@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <memory>
+
+#include <glm/geometric.hpp>
 
 #include "mesh/patch_mesh.h"
 #include "mesh/validation_scenes.h"
@@ -263,4 +266,39 @@ TEST(RaycastFormFactor, AnEmptyConvexRoomCastsNoRaysAndABlockedSceneDoes) {
     const RaycastFormFactor rf(plates.patches(), &between, {});
     EXPECT_LT(rf.visible_fraction(0, 1), 1.0);
     EXPECT_GT(between.segments.load(), 0u);
+}
+
+TEST(RaycastFormFactor, ARotatedEmptyRoomCastsNoRaysEither) {
+    // Tilted off the axes the room's box no longer proves its walls support the scene, so the
+    // culler checks every vertex against each wall's plane: still no ray, rows still 1. A cube
+    // floating inside makes its own faces candidate blockers again.
+    const glm::dvec3 u = glm::normalize(glm::dvec3(1, 2, 3));
+    const auto rotate = [&](const glm::dvec3& p) {  // 0.7 rad about u (Rodrigues)
+        const double c = std::cos(0.7), s = std::sin(0.7);
+        return p * c + glm::cross(u, p) * s + u * glm::dot(u, p) * (1 - c);
+    };
+    Scene room = closed_box({1, 1, 1}, {"w", Rgb::gray(0.5), Rgb::gray(0)});
+    for (auto& surface : room.surfaces)
+        for (auto& v : surface.vertices) v = rotate(v);
+    MeshingOptions o;
+    o.max_edge = 1.0 / 4 * (1 + 1e-9);
+    const PatchMesh box(room, o);
+    const CountingVisibility in_box(make_visibility("embree", box.patches()));
+    const auto ff = make_form_factor_estimator("raycast", box.patches(), &in_box, {});
+    const auto F = FormFactorMatrix::build(*ff, box.size(), std::size_t(1) << 30);
+    EXPECT_EQ(in_box.segments.load(), 0u);
+    for (const double s : F.row_sums()) EXPECT_NEAR(s, 1.0, 1e-6);
+
+    Scene cluttered = room;
+    for (const auto& face : closed_box({0.2, 0.2, 0.2}, {"w", Rgb::gray(0.5), Rgb::gray(0)}).surfaces) {
+        Surface outward = face;
+        std::reverse(outward.vertices.begin(), outward.vertices.end());  // faces out of the small cube
+        for (auto& v : outward.vertices) v = rotate(v + glm::dvec3(0.4));
+        cluttered.surfaces.push_back(outward);
+    }
+    const PatchMesh inner(cluttered, o);
+    const CountingVisibility around(make_visibility("embree", inner.patches()));
+    const auto ff2 = make_form_factor_estimator("raycast", inner.patches(), &around, {});
+    const auto F2 = FormFactorMatrix::build(*ff2, inner.size(), std::size_t(1) << 30);
+    EXPECT_GT(around.segments.load(), 0u);
 }
