@@ -7,25 +7,15 @@
 #include <numbers>
 #include <optional>
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <glm/geometric.hpp>
 
 #include "mesh/polygon.h"
+#include "mesh/surface_tree.h"
 
 namespace bounce {
 namespace {
 
 using V = glm::dvec3;
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Triangles = std::vector<K::Triangle_3>;
-using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
-
-K::Point_3 to_cgal(const V& p) { return {p.x, p.y, p.z}; }
-
 /// The part of convex `poly` on the side of the line through `a` (in the plane) where
 /// dot(m, x - a) * side >= 0. Vertices within `eps` of the line belong to both sides. Crossing
 /// points are computed from the edge's endpoints in a fixed (lexicographic) order, so the two
@@ -160,8 +150,6 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
     if (n < 2) return out;
     V lo(std::numeric_limits<double>::infinity()), hi = -lo;
     std::vector<SurfaceFrame> frame(n);
-    Triangles tris;
-    std::vector<int> owner;
     for (std::size_t s = 0; s < n; ++s) {
         const auto& poly = scene.surfaces[s].vertices;
         for (const auto& v : poly) {
@@ -172,24 +160,18 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
         const double len = glm::length(nn);
         if (!(len > 0)) continue;
         frame[s] = {nn / len, poly[0], 0.5 * len};
-        for (const auto& t : triangulate_polygon(poly)) {
-            tris.emplace_back(to_cgal(poly[t[0]]), to_cgal(poly[t[1]]), to_cgal(poly[t[2]]));
-            owner.push_back(int(s));
-        }
     }
-    if (tris.empty()) return out;
+    const SurfaceTree tree(scene);
+    if (tree.empty()) return out;
     const double diag = glm::length(hi - lo);
     const double tol = 5e-4 * diag;  // "resting on": a gap below this is contact
-    Tree tree(tris.cbegin(), tris.cend());
-    tree.build();
 
     // Enclosed: every ray from just above x meets the back of some surface first.
     auto enclosed = [&](const V& x, const V& normal) {
         const V from = x + 1e-6 * diag * normal;
         for (const V& d : hemisphere_directions(normal)) {
-            const auto hit = tree.first_intersection(K::Ray_3(to_cgal(from), K::Vector_3(d.x, d.y, d.z)));
-            if (!hit) return false;
-            const int t = owner[std::size_t(hit->second - tris.cbegin())];
+            const int t = tree.first_hit(from, d);
+            if (t < 0) return false;
             if (glm::dot(frame[std::size_t(t)].normal, d) <= 0) return false;  // a front face: light can come from there
         }
         return true;
@@ -210,13 +192,7 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
             slo = glm::min(slo, v);
             shi = glm::max(shi, v);
         }
-        const K::Iso_cuboid_3 box(to_cgal(slo - V(tol)), to_cgal(shi + V(tol)));
-        std::vector<Primitive::Id> near;
-        tree.all_intersected_primitives(box, std::back_inserter(near));
-        std::vector<int> others;
-        for (const auto& id : near) others.push_back(owner[std::size_t(id - tris.cbegin())]);
-        std::sort(others.begin(), others.end());
-        others.erase(std::unique(others.begin(), others.end()), others.end());
+        const std::vector<int> others = tree.in_box(slo - V(tol), shi + V(tol));
 
         for (const int t : others) {
             if (t == int(s) || !(frame[std::size_t(t)].area > 0)) continue;

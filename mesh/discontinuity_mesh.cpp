@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -17,6 +18,7 @@
 #include <glm/vec2.hpp>
 
 #include "mesh/polygon.h"
+#include "mesh/surface_tree.h"
 
 namespace bounce {
 namespace {
@@ -243,13 +245,57 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
             holes[std::size_t(c.surface)].push_back(std::move(h));
         }
 
+    // A boundary exists only where its critical line, from the receiver through the occluder's
+    // vertex or edge to the emitter, is itself unobstructed (Lischinski et al. 1992 clip their
+    // wedges by the scene the same way): behind a third object the emitter is hidden anyway.
+    // `ignore` holds the surfaces the line may touch: the receiver, the emitter and the faces
+    // at the generating vertex or edge (the line grazes them there).
+    const SurfaceTree tree(scene);
+    const double shift = 1e-6 * diag;  // off the receiver and the emitter at the line's ends
+    auto line_open = [&](const V& q, const V& to, const std::vector<int>& ignore) {
+        const V d = to - q;
+        const double len = glm::length(d);
+        if (!(len > 2 * shift)) return true;
+        for (const int hit : tree.on_segment(q + d * (shift / len), to - d * (shift / len)))
+            if (!std::binary_search(ignore.begin(), ignore.end(), hit)) return false;
+        return true;
+    };
+    // The visible parts of [t0, t1] of a + t (b - a): visibility at kSamples interior points,
+    // each change of answer located by bisection; the ends keep the answer of their nearest
+    // sample (a point on the receiver's outline would ask about the wall beside it).
+    constexpr int kSamples = 16;
+    auto visible_parts = [&](double t0, double t1, const auto& open_at) {
+        std::vector<std::pair<double, double>> parts;
+        const auto at = [&](int k) { return t0 + (k + 0.5) / kSamples * (t1 - t0); };
+        bool open = open_at(at(0));
+        double start = t0;
+        for (int k = 1; k < kSamples; ++k) {
+            const bool next = open_at(at(k));
+            if (next == open) continue;
+            double lo = at(k - 1), hi = at(k);
+            while (hi - lo > 1e-9 * (t1 - t0)) {
+                const double mid = 0.5 * (lo + hi);
+                (open_at(mid) == open ? lo : hi) = mid;
+            }
+            if (open) parts.emplace_back(start, 0.5 * (lo + hi));
+            start = 0.5 * (lo + hi);
+            open = next;
+        }
+        if (open) parts.emplace_back(start, t1);
+        return parts;
+    };
+
     auto add = [&](std::size_t r, const V& pa, const V& pb, DiscontinuitySegment::Kind kind, int emitter,
-                   int occluder) {
+                   int occluder, const auto& open_from) {
         const Frame& f = frames[r];
         const P2 a = f.to2(pa), b = f.to2(pb);
         if (!(glm::length(b - a) > eps)) return;
-        auto intervals = inside_intervals(a, b, outline[r]);
-        for (const auto& h : holes[r]) subtract_convex_interval(intervals, a, b, h);
+        auto inside = inside_intervals(a, b, outline[r]);
+        for (const auto& h : holes[r]) subtract_convex_interval(inside, a, b, h);
+        std::vector<std::pair<double, double>> intervals;
+        for (const auto& [t0, t1] : inside)
+            for (const auto& part : visible_parts(t0, t1, [&](double t) { return open_from(f.to3(a + t * (b - a))); }))
+                intervals.push_back(part);
         for (const auto& [t0, t1] : intervals) {
             const V qa = f.to3(a + t0 * (b - a)), qb = f.to3(a + t1 * (b - a));
             if (!(glm::length(qb - qa) > 1e-6 * diag)) continue;
@@ -263,6 +309,15 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
                 }
             if (!repeated) list.push_back({qa, qb, kind, emitter, occluder});
         }
+    };
+
+    // The receiver, the emitter and every face at the given welded points, sorted.
+    auto ignored = [&](std::size_t r, std::size_t e, std::initializer_list<std::size_t> points) {
+        std::vector<int> out_ids = {int(r), int(e)};
+        for (const std::size_t p : points)
+            for (const auto& [fi, c] : occ.around[p]) out_ids.push_back(occ.faces[std::size_t(fi)].surface);
+        std::sort(out_ids.begin(), out_ids.end());
+        return out_ids;
     };
 
     for (std::size_t e = 0; e < n; ++e) {
@@ -288,6 +343,7 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
                 for (const auto& [fi, k] : occ.around[v])
                     if (occ.faces[std::size_t(fi)].surface != int(r)) owner = occ.faces[std::size_t(fi)].surface;
                 if (owner < 0) continue;
+                const std::vector<int> ignore_v = ignored(r, e, {v});
                 for (std::size_t k = 0; k < light.size(); ++k) {
                     const V& l0 = light[k];
                     const V& l1 = light[(k + 1) % light.size()];
@@ -320,7 +376,11 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
                         return x + (x - l) * (hx / (R.height(l) - hx));
                     };
                     ++out.traced;
-                    add(r, project(t0), project(t1), DiscontinuitySegment::Kind::EV, int(e), owner);
+                    add(r, project(t0), project(t1), DiscontinuitySegment::Kind::EV, int(e), owner, [&](const V& q) {
+                        // On to the emitter's plane, through x: the emitter edge's point.
+                        const double hq = E.height(q), hv = E.height(x);
+                        return !(hq > hv) || line_open(q, q + (x - q) * (hq / (hq - hv)), ignore_v);
+                    });
                 }
             }
             // VE: the plane through an emitter vertex and an occluder edge; the trace is the edge
@@ -332,6 +392,7 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
                 for (const auto& [fi, c] : faces)
                     if (occ.faces[std::size_t(fi)].surface != int(r)) owner = occ.faces[std::size_t(fi)].surface;
                 if (owner < 0 || (R.height(a) <= contact && R.height(b) <= contact)) continue;
+                const std::vector<int> ignore_edge = ignored(r, e, {std::size_t(key.first), std::size_t(key.second)});
                 for (const V& u : light) {
                     const double hu = R.height(u);
                     if (!(hu > eps)) continue;
@@ -366,7 +427,8 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
                         return x + (x - u) * (hx / (hu - hx));
                     };
                     ++out.traced;
-                    add(r, project(t0), project(t1), DiscontinuitySegment::Kind::VE, int(e), owner);
+                    add(r, project(t0), project(t1), DiscontinuitySegment::Kind::VE, int(e), owner,
+                        [&](const V& q) { return line_open(q, u, ignore_edge); });
                 }
             }
         }

@@ -41,8 +41,8 @@ struct TracedDiscontinuities {
 /// occluding face (any other surface), restricted to the occluders' silhouettes (the faces
 /// around the vertex or edge lie on one side of the critical plane: otherwise the surface is no
 /// boundary), onto every receiving surface's plane, clipped to the receiver's polygon and
-/// outside its covered regions. Visibility by third objects is not tested: a boundary may be
-/// kept where it is itself in shadow (extra constraints cost elements, not accuracy).
+/// outside its covered regions, and kept only where its critical line to the emitter is not
+/// blocked by a third surface (a boundary in another object's shadow bounds nothing).
 /// Surfaces with more than `max_per_surface` segments keep the longest ones, and one warning
 /// line says so; another names coplanar overlapping faces (each meshed on its own).
 TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_per_surface);

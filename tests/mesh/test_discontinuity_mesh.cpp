@@ -204,6 +204,43 @@ TEST(DiscontinuityMesh, UmbraAndPenumbraBoundariesLieWhereSimilarTrianglesPutThe
     EXPECT_TRUE(t.per_surface[2].empty());
 }
 
+TEST(DiscontinuityMesh, BoundariesBehindAThirdObjectAreClippedAway) {
+    // A low shelf at z = c over x >= 1.5 hides part of the blocker's shadow boundaries on the
+    // plane. The critical lines of the line x = +penumbra all run to the blocker's edge x = 1 at
+    // z = 1, crossing z = c at x = 1.75 - 0.75 c = 1.6 (c = 0.2): under the shelf, so that line
+    // is gone. Those of x = +umbra cross at 1.25 - 0.25 c = 1.2, beside it: kept whole, as is
+    // everything at negative x. On the line y = +penumbra two events overlap near x = 1.5: the
+    // corner (1, 1, 1) with the light's edge (EV, lines crossing z = c at x + c (1 - x), hidden
+    // beyond x = 1.625) and the edge y = 1 with the light's corner (-a, -a, H) (VE: q =
+    // 1.5 e + 0.25 from the edge point e, crossing z = c at q + c (e - q), hidden beyond
+    // q = (1.5 + c / 6) / (1 - c / 3) = 1.642857); the union ends at the later one.
+    Scene s = light_blocker_plane();
+    const double c = 0.2;
+    s.surfaces.push_back({{{1.5, -4, c}, {4, -4, c}, {4, 4, c}, {1.5, 4, c}}, 0, "shelf", {"test", 0}});
+    const TracedDiscontinuities t = trace_discontinuities(s, 100000);
+    std::vector<std::pair<V, V>> from_blocker;
+    for (const auto& d : t.per_surface[0])
+        if (d.occluder == 1) from_blocker.emplace_back(d.a, d.b);
+    const auto on = cover(from_blocker, 1e-9);
+    EXPECT_EQ(on.count(3), 0u) << "x = +penumbra lies wholly behind the shelf";
+    for (const int line : {0, 1, 2}) {  // x = -penumbra, -umbra, +umbra
+        ASSERT_EQ(on.count(line), 1u) << "line " << line;
+        ASSERT_EQ(on.at(line).size(), 1u) << "line " << line;
+        EXPECT_NEAR(on.at(line)[0].first, -kPenumbra, 1e-9) << "line " << line;
+        EXPECT_NEAR(on.at(line)[0].second, kPenumbra, 1e-9) << "line " << line;
+    }
+    for (const int line : {4, 7}) {  // y = -penumbra, +penumbra: clipped where the corner's lines meet the shelf
+        ASSERT_EQ(on.count(line), 1u) << "line " << line;
+        EXPECT_NEAR(on.at(line).front().first, -kPenumbra, 1e-9) << "line " << line;
+        EXPECT_NEAR(on.at(line).back().second, (1.5 + c / 6) / (1 - c / 3), 1e-6) << "line " << line;
+    }
+    // Unclipped, the same lines run to +penumbra (the trace without the shelf's shadow test).
+    const TracedDiscontinuities bare = trace_discontinuities(light_blocker_plane(), 100000);
+    std::vector<std::pair<V, V>> all;
+    for (const auto& d : bare.per_surface[0]) all.emplace_back(d.a, d.b);
+    EXPECT_NEAR(cover(all, 1e-9).at(7).back().second, kPenumbra, 1e-9);
+}
+
 TEST(DiscontinuityMesh, TheConstrainedTriangulationContainsTheBoundaries) {
     const Scene s = light_blocker_plane();
     const TracedDiscontinuities t = trace_discontinuities(s, 100000);
