@@ -46,7 +46,8 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
             const double f0 = point_polygon_form_factor(x.position, x.normal, p.polygon());
             if (!(f0 > 0)) continue;
             // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
-            const int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
+            int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
+            if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
             const int side = std::max(1, int(std::lround(std::sqrt(double(want)))));
             terms.push_back({j, segments.size(), std::size_t(side * side), f0});
             for (int a = 0; a < side; ++a)

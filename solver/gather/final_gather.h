@@ -30,7 +30,13 @@ struct GatherPoint {
 struct GatherOptions {
     double rays_per_unit_factor = 64;  // visibility rays to a patch: ceil(F * this), at least 1
     int max_rays = 16;                 // and at most this
-    std::uint64_t seed = 1;            // stratified ray targets; same seed, same values
+    /// Rays to each patch of an emitter, at least (rounded to a square grid): the direct light
+    /// is most of a lit point's value, and its penumbrae are where the point data errs. On the
+    /// default Cornell box the lamp is 20 patches, each well under 1/64 of a point's factor, so
+    /// one ray each left the point data 2.11% RMS / 10.4% max off the path-traced probes; a
+    /// 4 x 4 grid on every lamp patch gives 1.47% / 6.8%, for 16% more rays (3.3 million).
+    int emitter_rays = 16;
+    std::uint64_t seed = 1;  // stratified ray targets; same seed, same values
 };
 
 /// B(x) = E(x) + rho(x) * sum_j F(x -> j) B_j for every point, with
