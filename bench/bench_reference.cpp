@@ -11,9 +11,10 @@
 #include "mesh/scene_loader.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/gather/final_gather.h"
+#include "solver/gather/point_values.h"
 #include "solver/linear/shooting_solver.h"
-#include "solver/visibility/visibility.h"
 #include "solver/reference/path_tracer.h"
+#include "solver/visibility/visibility.h"
 
 using namespace bounce;
 
@@ -59,7 +60,7 @@ void BM_GatherVertices(benchmark::State& state) {
         return ShootingSolver(mesh.patches(), *ff, {}).solve().radiosity;
     }();
     const auto points = vertex_gather_points(mesh);
-    for (auto _ : state) benchmark::DoNotOptimize(final_gather(mesh.patches(), B, *vis, points));
+    for (auto _ : state) benchmark::DoNotOptimize(final_gather(mesh.patches(), B, *vis, points, point_value_options()));
     state.counters["vertices"] = double(points.size());
     state.counters["patches"] = double(mesh.size());
 }
