@@ -58,6 +58,12 @@ private:
     std::vector<std::uint32_t> m_order;  // patch indices, leaves are ranges of it
     std::vector<Node> m_nodes;           // the groups' trees
     std::vector<Group> m_groups;
+    /// Per patch, one bit per plane group: the patch lies wholly on the group's positive
+    /// (m_above) or negative (m_below) side, beyond its spread (beside() for the patch's own
+    /// vertices). The shaft of (i, j) is beside group g exactly when both patches are on the
+    /// same side of it, so clear() is a few word operations. m_words words per patch.
+    std::vector<std::uint64_t> m_above, m_below;
+    std::size_t m_words = 0;
     double m_tol = 0.0;  // 1e-9 of the scene's diagonal: "on the plane"
 };
 
