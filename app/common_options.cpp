@@ -163,7 +163,8 @@ void add_meshing_options_no_scene(CLI::App* cmd, CommonOptions& o) {
 }
 
 void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
-    cmd->add_option("--rays", f.visibility_rays, "visibility rays per patch pair (raycast; 4)")
+    cmd->add_option("--rays", f.visibility_rays,
+                    "visibility rays per patch pair (raycast; 2, with --adaptive or the hierarchical solver 4)")
         ->check(in_range(1, 4096));
     cmd->add_option("--receiver-samples", f.receiver_samples,
                     "points per side of each receiver (raycast); 0: adaptive (0)")

@@ -87,7 +87,8 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     SolveResult res;
     std::optional<PatchMesh> elements;
     std::ostringstream settings, summary;
-    settings << "patches=" << mesh.size() << " rays=" << s.ff.visibility_rays << " seed=" << s.ff.seed;
+    settings << "patches=" << mesh.size() << " rays=" << with_default_rays(s.ff, kRefinementRays).visibility_rays
+             << " seed=" << s.ff.seed;
     if (hierarchical) {
         HierarchicalOptions h = s.hierarchical;
         h.clustering = !s.no_clustering;
@@ -210,7 +211,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     std::ostringstream settings;
     settings << "patches=" << (elements ? shooters->size() : mesh.size()) << " elements=" << mesh.size()
              << " edge=" << mesh.edge_length() << " solver=" << s.solver << " sor=" << s.options.sor
-             << " method=" << s.method << " rays=" << s.ff.visibility_rays
+             << " method=" << s.method << " rays=" << with_default_rays(s.ff, kPatchPairRays).visibility_rays
              << " receiver_samples=" << s.ff.receiver_samples << " hemicube_res=" << s.ff.hemicube_resolution
              << " seed=" << s.ff.seed << " tolerance=" << s.options.tolerance << (o.flip ? " flip=1" : "");
     std::optional<SeriesWriter> series;

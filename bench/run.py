@@ -139,6 +139,9 @@ def main():
         b = ref[f"BM_ReferencePaths/{threads}/real_time"]
         micro(f"path-traced reference, {threads} thread{'s' if threads > 1 else ''}", b["items_per_second"],
               "paths/s", "", {"threads": threads})
+    b = ref["BM_DefaultRun/real_time"]
+    micro("default Cornell run (mesh, form factors, shooting, gather), 2 threads", b["real_time"] / 1e3, "s",
+          int(b["patches"]), {"threads": 2, "seconds": b["real_time"] / 1e3, "steps": int(b["shots"])})
     b = ref["BM_Reference100ProbesTo1Percent/real_time"]
     micro("path-traced reference: 100 probes to 1%", b["real_time"] / 1e3, "s", "",
           {"threads": 2, "seconds": b["real_time"] / 1e3, "steps": round(b["paths_per_probe"])})

@@ -179,14 +179,14 @@ void check_member(const char* name, const std::string& value, const std::vector<
     throw InputError(std::string(name) + ": unknown, got '" + value + "' (expected one of " + list + ")");
 }
 
-FormFactorOptions form_factor_options(const std::string& method, int rays, int receiver_samples, int hemicube_res,
-                                      bool hemicube_jitter, std::uint64_t seed) {
+FormFactorOptions form_factor_options(const std::string& method, std::optional<int> rays, int receiver_samples,
+                                      int hemicube_res, bool hemicube_jitter, std::uint64_t seed) {
     check_member("method", method, form_factor_methods());
-    check_range("rays", rays, 1, 4096);
+    if (rays) check_range("rays", *rays, 1, 4096);
     check_range("receiver_samples", receiver_samples, 0, 16);
     check_range("hemicube_res", hemicube_res, 2, 4096);
     FormFactorOptions f;
-    f.visibility_rays = rays;
+    f.visibility_rays = rays.value_or(0);  // None: the method's default (kPatchPairRays, kRefinementRays)
     f.receiver_samples = receiver_samples;
     f.hemicube_resolution = hemicube_res;
     f.hemicube_jitter = hemicube_jitter;
@@ -296,9 +296,9 @@ std::unique_ptr<Matrix> build_matrix(const SceneData& s, const std::string& meth
     return out;
 }
 
-py::object form_factors(const std::shared_ptr<SceneData>& s, const std::string& method, int rays, int receiver_samples,
-                        int hemicube_res, bool hemicube_jitter, std::uint64_t seed, std::size_t max_matrix_mb,
-                        const std::string& format, const py::object& progress) {
+py::object form_factors(const std::shared_ptr<SceneData>& s, const std::string& method, std::optional<int> rays,
+                        int receiver_samples, int hemicube_res, bool hemicube_jitter, std::uint64_t seed,
+                        std::size_t max_matrix_mb, const std::string& format, const py::object& progress) {
     const FormFactorOptions f =
         form_factor_options(method, rays, receiver_samples, hemicube_res, hemicube_jitter, seed);
     check_member("format", format, {"dense", "csr"});
@@ -368,9 +368,9 @@ struct SolutionData {
 
 std::shared_ptr<SolutionData> solve(
     const std::shared_ptr<SceneData>& s, const std::string& solver_name, double tolerance, std::int64_t max_iterations,
-    double max_seconds, double sor, bool overshoot, std::size_t cache_mb, const std::string& method, int rays,
-    int receiver_samples, int hemicube_res, bool hemicube_jitter, std::uint64_t seed, std::size_t max_matrix_mb,
-    const std::string& gather, bool residuals,
+    double max_seconds, double sor, bool overshoot, std::size_t cache_mb, const std::string& method,
+    std::optional<int> rays, int receiver_samples, int hemicube_res, bool hemicube_jitter, std::uint64_t seed,
+    std::size_t max_matrix_mb, const std::string& gather, bool residuals,
     const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& reference, bool adaptive,
     double target_error, std::int64_t max_patches, double link_epsilon, int max_level, bool clustering,
     const py::object& progress) {
@@ -428,7 +428,8 @@ std::shared_ptr<SolutionData> solve(
                     if (job.cancel) return;
                     out->mesh = std::make_shared<const PatchMesh>(sol.tree.conforming_mesh(sol.leaves));
                     res = std::move(sol.result);
-                    settings << "patches=" << P.size() << " rays=" << rays << " seed=" << seed
+                    settings << "patches=" << P.size()
+                             << " rays=" << with_default_rays(f, kRefinementRays).visibility_rays << " seed=" << seed
                              << " solver=hierarchical link_epsilon=" << link_epsilon << " max_level=" << max_level
                              << " clustering=" << (clustering ? 1 : 0) << " elements=" << sol.leaves.size()
                              << " links=" << sol.links;
@@ -446,7 +447,8 @@ std::shared_ptr<SolutionData> solve(
                     settle_adaptive_status(sol, a);
                     out->mesh = std::make_shared<const PatchMesh>(sol.tree.conforming_mesh(sol.leaves));
                     res = std::move(sol.result);
-                    settings << "patches=" << P.size() << " rays=" << rays << " seed=" << seed
+                    settings << "patches=" << P.size()
+                             << " rays=" << with_default_rays(f, kRefinementRays).visibility_rays << " seed=" << seed
                              << " solver=adaptive target_error=" << target_error << " max_patches=" << max_patches
                              << " elements=" << sol.leaves.size() << " rounds=" << sol.rounds.size();
                 }
@@ -495,7 +497,8 @@ std::shared_ptr<SolutionData> solve(
         progress);
     if (!elements)
         settings << "patches=" << mesh.size() << " elements=" << mesh.size() << " edge=" << mesh.edge_length()
-                 << " solver=" << solver_name << " sor=" << sor << " method=" << method << " rays=" << rays
+                 << " solver=" << solver_name << " sor=" << sor << " method=" << method
+                 << " rays=" << with_default_rays(f, kPatchPairRays).visibility_rays
                  << " receiver_samples=" << receiver_samples << " hemicube_res=" << hemicube_res << " seed=" << seed
                  << " tolerance=" << tolerance << " (python)";
     out->settings = settings.str();
@@ -886,7 +889,7 @@ PYBIND11_MODULE(_bounce, m) {
           py::arg("visibility") = visibility_backends().front(),
           "The scene cut into patches (the package's bounce.load wraps this and issues the warnings).");
     m.def("form_factors", &form_factors, py::arg("scene"), py::kw_only(), py::arg("method") = "raycast",
-          py::arg("rays") = 4, py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256,
+          py::arg("rays") = py::none(), py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256,
           py::arg("hemicube_jitter") = false, py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048,
           py::arg("format") = "dense", py::arg("progress") = py::none(),
           "The whole form-factor matrix, F[i, j] the fraction of power leaving patch i that reaches j, as "
@@ -899,7 +902,7 @@ PYBIND11_MODULE(_bounce, m) {
     m.def("solve", &solve, py::arg("scene"), py::kw_only(), py::arg("solver") = "shooting", py::arg("tolerance") = 1e-3,
           py::arg("max_iterations") = 0, py::arg("max_seconds") = 0.0, py::arg("sor") = 1.0,
           py::arg("overshoot") = false, py::arg("cache_mb") = 1024, py::arg("form_factors") = "raycast",
-          py::arg("rays") = 4, py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256,
+          py::arg("rays") = py::none(), py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256,
           py::arg("hemicube_jitter") = false, py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048,
           py::arg("gather") = "vertices", py::arg("residuals") = false, py::arg("reference") = py::none(),
           py::arg("adaptive") = false, py::arg("target_error") = 0.05, py::arg("max_patches") = 20000,

@@ -9,6 +9,15 @@ bounce="$here/../../scripts/bounce.sh"
 "$bounce" render "$here/cornell.vtu" -o "$here/cornell_luminance.png" --luminance --edges --size 600x600
 rm -f "$here/cornell.vtu"
 echo "wrote $here/cornell.png and cornell_luminance.png"
+# Issue 16 before and after, smooth point data with the patch edges: every surface meshed whole
+# and the point data averaged from the patches (--no-contact-cuts --gather none), against the
+# default run (contact cuts, point data gathered at the vertices).
+"$bounce" solve -q --no-contact-cuts --gather none -o "$here/cornell_before_16.vtu"
+"$bounce" render "$here/cornell_before_16.vtu" -o "$here/cornell_before_16.png" --smooth --edges --size 600x600
+"$bounce" solve -q -o "$here/cornell_after_16.vtu"
+"$bounce" render "$here/cornell_after_16.vtu" -o "$here/cornell_after_16.png" --smooth --edges --size 600x600
+rm -f "$here/cornell_before_16.vtu" "$here/cornell_after_16.vtu"
+echo "wrote $here/cornell_before_16.png and cornell_after_16.png"
 # Adaptive subdivision with the element edges drawn: fine at shadow edges, coarse on open walls.
 "$bounce" solve -q --adaptive -o "$here/cornell_adaptive.vtu" --png "$here/cornell_adaptive.png" --edges --size 600x600
 rm -f "$here/cornell_adaptive.vtu"

@@ -36,10 +36,10 @@ RaycastFormFactor::RaycastFormFactor(const std::vector<Patch>& patches, const Vi
                                      const FormFactorOptions& options)
     : m_patches(patches),
       m_visibility(visibility),
-      m_options(options),
+      m_options(with_default_rays(options, kPatchPairRays)),
       m_unoccluded(patches, options.unoccluded_tolerance),
       m_culler(visibility ? std::make_unique<ShaftCuller>(patches) : nullptr) {
-    if (options.visibility_rays < 1) throw std::invalid_argument("visibility rays must be at least 1");
+    if (m_options.visibility_rays < 1) throw std::invalid_argument("visibility rays must be at least 1");
     // (m_unoccluded has checked the tolerance.)
     if (options.receiver_samples < 0) throw std::invalid_argument("receiver samples must not be negative");
 }

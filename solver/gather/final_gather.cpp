@@ -2,6 +2,7 @@
 #include "solver/gather/final_gather.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
@@ -9,8 +10,62 @@
 
 #include "solver/form_factors/patch_sampling.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
+#include "solver/form_factors/polygon_form_factor.h"
 
 namespace bounce {
+namespace {
+
+/// Unoccluded point-to-patch factors: Lambert's formula, or for well-separated patches wholly
+/// above the point's horizon the Gauss-Legendre rule of the point-to-point kernel at the order
+/// the pair's separation predicts (as UnoccludedFormFactor does for patch pairs).
+class PointFactor {
+public:
+    PointFactor(const std::vector<Patch>& patches, double tolerance) : m_patches(patches), m_tolerance(tolerance) {
+        if (!(tolerance > 0)) return;
+        for (int n = 1; n <= kOrders; ++n) m_rho_needed[std::size_t(n)] = std::pow(1.0 / tolerance, 1.0 / (2.0 * n));
+        m_radius.reserve(patches.size());
+        m_points.reserve(patches.size() * kPoints);
+        std::vector<AreaSample> q;
+        for (const Patch& p : patches) {
+            m_radius.push_back(circumradius(p));
+            for (int n = 1; n <= kOrders; ++n) {
+                patch_quadrature(p, n, q);
+                m_points.insert(m_points.end(), q.begin(), q.end());
+            }
+        }
+    }
+
+    /// F(dA at x with normal n -> patch j), for x in front of patch j.
+    double operator()(const glm::dvec3& x, const glm::dvec3& n, std::size_t j) const {
+        const Patch& p = m_patches[j];
+        if (m_tolerance > 0) {
+            const double rho = separation_rho(glm::length(p.centre - x) - m_radius[j], m_radius[j]);
+            int order = 0;
+            for (int k = 1; k <= kOrders && order == 0; ++k)
+                if (rho > 0 && rho >= m_rho_needed[std::size_t(k)]) order = k;
+            bool above = order > 0;  // the rule needs the kernel smooth: no part below x's horizon
+            for (int v = 0; v < p.vertex_count && above; ++v) above = glm::dot(n, p.vertices[v] - x) > 0;
+            if (above) {
+                const AreaSample at_x{x, 1.0};
+                const std::size_t first = j * kPoints + std::size_t((order - 1) * order * (2 * order - 1) / 6);
+                return separated_form_factor({&at_x, 1}, n, {m_points.data() + first, std::size_t(order * order)},
+                                             p.area, p.normal);
+            }
+        }
+        return point_polygon_form_factor(x, n, p.polygon());
+    }
+
+private:
+    static constexpr int kOrders = 4;                       // beyond: Lambert's formula is cheaper
+    static constexpr std::size_t kPoints = 1 + 4 + 9 + 16;  // orders 1..kOrders, end to end per patch
+    const std::vector<Patch>& m_patches;
+    double m_tolerance;
+    std::array<double, kOrders + 1> m_rho_needed{};  // [n]: the smallest rho order n serves
+    std::vector<double> m_radius;                    // circumradius per patch
+    std::vector<AreaSample> m_points;                // Gauss points, weights as fractions of the area
+};
+
+}  // namespace
 
 std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
                               const Visibility& visibility, std::span<const GatherPoint> points,
@@ -20,6 +75,7 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
     for (std::size_t i = 0; i < points.size(); ++i) out[i] = points[i].emission;
     std::atomic<std::size_t> done{0};
     const double lift = visibility.offset();
+    const PointFactor factor(patches, options.kernel_tolerance);
     tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
         if (cancel && cancel->load(std::memory_order_relaxed)) return;
         const GatherPoint& x = points[i];
@@ -43,10 +99,11 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
             const Patch& p = patches[j];
             if (p.surface == x.surface || radiosity[j].max() <= 0) continue;
             if (p.height(x.position) <= 0) continue;  // x behind p: p sends nothing its way
-            const double f0 = point_polygon_form_factor(x.position, x.normal, p.polygon());
+            const double f0 = factor(x.position, x.normal, j);
             if (!(f0 > 0)) continue;
             // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
-            const int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
+            int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
+            if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
             const int side = std::max(1, int(std::lround(std::sqrt(double(want)))));
             terms.push_back({j, segments.size(), std::size_t(side * side), f0});
             for (int a = 0; a < side; ++a)

@@ -30,15 +30,27 @@ struct GatherPoint {
 struct GatherOptions {
     double rays_per_unit_factor = 64;  // visibility rays to a patch: ceil(F * this), at least 1
     int max_rays = 16;                 // and at most this
-    std::uint64_t seed = 1;            // stratified ray targets; same seed, same values
+    /// Rays to each patch of an emitter, at least (rounded to a square grid): the direct light
+    /// is most of a lit point's value, and its penumbrae are where the point data errs. On the
+    /// default Cornell box the lamp is 20 patches, each well under 1/64 of a point's factor, so
+    /// one ray each left the point data 2.11% RMS / 10.4% max off the path-traced probes; a
+    /// 4 x 4 grid on every lamp patch gives 1.47% / 6.8%, for 16% more rays (3.3 million).
+    int emitter_rays = 16;
+    std::uint64_t seed = 1;  // stratified ray targets; same seed, same values
+    /// 0: every unoccluded factor by Lambert's formula (four arc tangents per patch). > 0: a
+    /// patch wholly above the point's horizon and far enough away takes the n x n
+    /// Gauss-Legendre rule of the point-to-point kernel instead, n = 1..4 the smallest order
+    /// the Bernstein bound of separation_rho predicts for this relative tolerance; no
+    /// trigonometry, so several times cheaper. gather_point_values uses 1e-4.
+    double kernel_tolerance = 0.0;
 };
 
 /// B(x) = E(x) + rho(x) * sum_j F(x -> j) B_j for every point, with
-/// F(x -> j) = F0 * sum_s V_s K_s / sum_s K_s: the exact unoccluded factor F0 (Lambert's
-/// formula) times the visible share of the kernel K = cos cos' / r^2 at stratified points of
-/// patch j (a kernel-weighted, not a plain, fraction of open rays). Patches facing away, behind
-/// the point, or on the point's own surface give nothing. Parallel over points (TBB);
-/// `cancel` stops early (the remaining points keep E).
+/// F(x -> j) = F0 * sum_s V_s K_s / sum_s K_s: the unoccluded factor F0 (Lambert's formula,
+/// or within options.kernel_tolerance the Gauss rule for far patches) times the visible share of the kernel K = cos
+/// cos' / r^2 at stratified points of patch j (a kernel-weighted, not a plain, fraction of open rays). Patches facing
+/// away, behind the point, or on the point's own surface give nothing. Parallel over points (TBB); `cancel` stops early
+/// (the remaining points keep E).
 std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
                               const Visibility& visibility, std::span<const GatherPoint> points,
                               const GatherOptions& options = {}, const std::atomic<bool>* cancel = nullptr,

@@ -5,11 +5,15 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "solver/gather/final_gather.h"
-
 namespace bounce {
 
 std::vector<std::string> gather_modes() { return {"vertices", "centres", "none"}; }
+
+GatherOptions point_value_options() {
+    GatherOptions o;
+    o.kernel_tolerance = 1e-4;
+    return o;
+}
 
 GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res,
                                   const std::string& mode, const std::atomic<bool>* cancel,
@@ -27,13 +31,14 @@ GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visib
         };
     };
     const auto start = std::chrono::steady_clock::now();
+    const GatherOptions options = point_value_options();
     const auto vertices = vertex_gather_points(mesh);
-    res.point_radiosity =
-        final_gather(mesh.patches(), res.radiosity, visibility, vertices, {}, cancel, report("gathering: vertices"));
+    res.point_radiosity = final_gather(mesh.patches(), res.radiosity, visibility, vertices, options, cancel,
+                                       report("gathering: vertices"));
     if (mode == "centres" && !stopped()) {
         const auto centres = centre_gather_points(mesh.patches());
-        res.gathered_centres =
-            final_gather(mesh.patches(), res.radiosity, visibility, centres, {}, cancel, report("gathering: centres"));
+        res.gathered_centres = final_gather(mesh.patches(), res.radiosity, visibility, centres, options, cancel,
+                                            report("gathering: centres"));
     }
     res.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (stopped()) {

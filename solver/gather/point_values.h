@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mesh/patch_mesh.h"
+#include "solver/gather/final_gather.h"
 #include "solver/linear/solve_result.h"
 #include "solver/visibility/visibility.h"
 
@@ -18,6 +19,11 @@ namespace bounce {
 /// Gather modes: "vertices" (the default), "centres" (vertices and patch centres), "none"
 /// (point data averaged from the patches around each vertex).
 std::vector<std::string> gather_modes();
+
+/// The options gather_point_values passes to final_gather: the defaults, with far patches by
+/// the Gauss rule to a relative 1e-4 (kernel_tolerance), far below the probes' own 0.5% noise
+/// and the one-ray visibility of far pairs, for a kernel that then costs a fraction.
+GatherOptions point_value_options();
 
 /// Point-to-patch pairs above which the gather is skipped (about 10 s on 2 cores): its cost is
 /// vertices x patches, which a hierarchy of patches would cut.

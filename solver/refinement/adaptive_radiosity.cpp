@@ -26,7 +26,7 @@ public:
     TwoLevelSystem(const std::vector<Patch>& patches, const Visibility& visibility, const AdaptiveOptions& o)
         : m_tree(patches),
           m_options(o),
-          m_ff(m_tree.geometry(), &visibility, o.form_factors),
+          m_ff(m_tree.geometry(), &visibility, with_default_rays(o.form_factors, kRefinementRays)),
           m_start(std::chrono::steady_clock::now()) {
         if (patches.empty()) throw std::invalid_argument("adaptive subdivision: no patches");
     }

@@ -424,7 +424,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     SolveResult& res = out.result;
     res.solver = "hierarchical";
     res.form_factors = "raycast";
-    const RaycastFormFactor ff(tree.geometry(), &visibility, options.form_factors);
+    const RaycastFormFactor ff(tree.geometry(), &visibility, with_default_rays(options.form_factors, kRefinementRays));
     std::optional<ClusterTree> clusters;
     std::vector<Rgb> Bc;
     if (options.clustering) {

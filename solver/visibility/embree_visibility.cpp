@@ -98,35 +98,49 @@ public:
     }
     void occluded(std::span<const Segment> segments, std::span<std::uint8_t> blocked) const override {
         // Packets of four (SSE width, available on every x86-64): a pair's rays run between
-        // the same two patches, so they traverse the same BVH nodes.
+        // the same two patches, so they traverse the same BVH nodes. Long batches (a gather
+        // point's rays to every patch, in patch order, so neighbours run to neighbouring
+        // patches) go sixteen at a time: the final gather of the default Cornell box took 14%
+        // less CPU than in fours (bench_reference, BM_GatherVertices).
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
-        for (std::size_t base = 0; base < segments.size(); base += 4) {
-            RTCRay4 packet{};
-            alignas(16) int valid[4] = {0, 0, 0, 0};
-            const std::size_t count = std::min<std::size_t>(4, segments.size() - base);
-            for (std::size_t k = 0; k < count; ++k) {
-                const double t0 = trim(segments[base + k].a, segments[base + k].b);
-                if (t0 >= 0.5) continue;  // nothing to test: left invalid, reported open
-                const glm::dvec3 o = segments[base + k].a - m_centre, d = segments[base + k].b - segments[base + k].a;
-                packet.org_x[k] = float(o.x);
-                packet.org_y[k] = float(o.y);
-                packet.org_z[k] = float(o.z);
-                packet.dir_x[k] = float(d.x);
-                packet.dir_y[k] = float(d.y);
-                packet.dir_z[k] = float(d.z);
-                packet.tnear[k] = float(t0);
-                packet.tfar[k] = float(1.0 - t0);
-                packet.mask[k] = 0xFFFFFFFFu;
-                valid[k] = -1;
-            }
-            rtcOccluded4(valid, m_scene, &context, &packet);
-            for (std::size_t k = 0; k < count; ++k) blocked[base + k] = valid[k] && packet.tfar[k] < 0.0f;
-        }
+        std::size_t base = 0;
+        for (; base + 16 <= segments.size(); base += 16) trace_packet<RTCRay16, 16>(segments, base, blocked, context);
+        for (; base < segments.size(); base += 4) trace_packet<RTCRay4, 4>(segments, base, blocked, context);
     }
     std::string name() const override { return "embree"; }
 
 private:
+    /// Segments [base, base + N) (fewer at the end) as one packet of N; a segment shorter than
+    /// twice the offset is left invalid and reported open.
+    template <class Packet, int N>
+    void trace_packet(std::span<const Segment> segments, std::size_t base, std::span<std::uint8_t> blocked,
+                      RTCIntersectContext& context) const {
+        Packet packet{};
+        alignas(64) int valid[N] = {};
+        const std::size_t count = std::min<std::size_t>(N, segments.size() - base);
+        for (std::size_t k = 0; k < count; ++k) {
+            const double t0 = trim(segments[base + k].a, segments[base + k].b);
+            if (t0 >= 0.5) continue;  // nothing to test
+            const glm::dvec3 o = segments[base + k].a - m_centre, d = segments[base + k].b - segments[base + k].a;
+            packet.org_x[k] = float(o.x);
+            packet.org_y[k] = float(o.y);
+            packet.org_z[k] = float(o.z);
+            packet.dir_x[k] = float(d.x);
+            packet.dir_y[k] = float(d.y);
+            packet.dir_z[k] = float(d.z);
+            packet.tnear[k] = float(t0);
+            packet.tfar[k] = float(1.0 - t0);
+            packet.mask[k] = 0xFFFFFFFFu;
+            valid[k] = -1;
+        }
+        if constexpr (N == 16)
+            rtcOccluded16(valid, m_scene, &context, &packet);
+        else
+            rtcOccluded4(valid, m_scene, &context, &packet);
+        for (std::size_t k = 0; k < count; ++k) blocked[base + k] = valid[k] && packet.tfar[k] < 0.0f;
+    }
+
     void release() {
         if (m_scene) rtcReleaseScene(m_scene);
         if (m_device) rtcReleaseDevice(m_device);

@@ -69,6 +69,23 @@ ShaftCuller::ShaftCuller(const std::vector<Patch>& patches) : m_patches(patches)
     }
     m_groups.resize(kept);
     members.resize(kept);
+    // Per-patch side bits, within a budget of patch x group tests: a scene of many planes (an
+    // office's furniture) keeps the per-pair corner test instead of O(N x groups) memory.
+    constexpr std::size_t kMaxSideTests = std::size_t(1) << 25;
+    m_words = n * m_groups.size() <= kMaxSideTests ? (m_groups.size() + 63) / 64 : 0;
+    m_above.assign(n * m_words, 0);
+    m_below.assign(n * m_words, 0);
+    for (std::size_t k = 0; k < n && m_words > 0; ++k)
+        for (std::size_t g = 0; g < m_groups.size(); ++g) {
+            bool pos = true, neg = true;  // as beside() for this patch's vertices alone
+            for (int v = 0; v < patches[k].vertex_count; ++v) {
+                const double h = glm::dot(m_groups[g].normal, patches[k].vertices[v]) - m_groups[g].offset;
+                pos &= h >= m_groups[g].spread - m_tol;
+                neg &= h <= m_tol - m_groups[g].spread;
+            }
+            if (pos) m_above[k * m_words + g / 64] |= std::uint64_t(1) << (g % 64);
+            if (neg) m_below[k * m_words + g / 64] |= std::uint64_t(1) << (g % 64);
+        }
     m_nodes.reserve(2 * n + m_groups.size());
     for (std::size_t g = 0; g < m_groups.size(); ++g) {
         const std::uint32_t begin = std::uint32_t(m_order.size());
@@ -160,9 +177,24 @@ bool ShaftCuller::beside(const Group& g, const glm::dvec3* pts, int np) const {
 
 bool ShaftCuller::clear(std::size_t i, std::size_t j) const {
     if (m_groups.empty()) return true;  // every plane supports the scene: a convex room
-    const ShaftCorners c = shaft_corners(m_patches[i], m_patches[j]);
-    for (const Group& g : m_groups)
-        if (!beside(g, c.pts.data(), c.count)) return false;
+    if (std::max(i, j) >= m_above.size() / std::max<std::size_t>(m_words, 1)) {
+        // A patch added after construction (refinement appends elements), or no bits (over
+        // their budget): test the corners.
+        const ShaftCorners c = shaft_corners(m_patches[i], m_patches[j]);
+        for (const Group& g : m_groups)
+            if (!beside(g, c.pts.data(), c.count)) return false;
+        return true;
+    }
+    // The shaft's corners are the two patches' vertices, so beside(g) for the pair is "both
+    // patches above g" or "both below g", each precomputed per patch.
+    const std::size_t groups = m_groups.size();
+    for (std::size_t w = 0; w < m_words; ++w) {
+        const std::uint64_t beside_all = (m_above[i * m_words + w] & m_above[j * m_words + w]) |
+                                         (m_below[i * m_words + w] & m_below[j * m_words + w]);
+        const std::size_t bits = std::min<std::size_t>(64, groups - 64 * w);
+        const std::uint64_t all = bits == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << bits) - 1;
+        if (beside_all != all) return false;
+    }
     return true;
 }
 

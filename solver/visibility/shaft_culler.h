@@ -63,7 +63,14 @@ private:
     std::vector<std::uint32_t> m_order;  // patch indices, leaves are ranges of it
     std::vector<Node> m_nodes;           // the groups' trees
     std::vector<Group> m_groups;         // only the planes some shaft may cross (supporting ones are left out)
-    double m_tol = 0.0;                  // 1e-9 of the scene's diagonal: "on the plane"
+    /// Per patch, one bit per plane group: the patch lies wholly on the group's positive
+    /// (m_above) or negative (m_below) side, beyond its spread (beside() for the patch's own
+    /// vertices). The shaft of (i, j) is beside group g exactly when both patches are on the
+    /// same side of it, so clear() is a few word operations. m_words words per patch; 0 when
+    /// patches x groups is over the budget (then clear() tests the corners per pair).
+    std::vector<std::uint64_t> m_above, m_below;
+    std::size_t m_words = 0;
+    double m_tol = 0.0;  // 1e-9 of the scene's diagonal: "on the plane"
 };
 
 }  // namespace bounce

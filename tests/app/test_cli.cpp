@@ -578,7 +578,7 @@ TEST(Cli, TheFirstHourPapercuts) {
         << unknown.err;
     // --help shows the defaults of the form-factor options.
     const auto help = bounce_run("solve --help");
-    for (const std::string d : {"pair (raycast; 4)", "adaptive (0)", "even (256)", "rotations (1)", "(MB; 2048)"})
+    for (const std::string d : {"pair (raycast; 2, with --adaptive or the hierarchical solver 4)", "adaptive (0)", "even (256)", "rotations (1)", "(MB; 2048)"})
         EXPECT_NE(help.out.find(d), std::string::npos) << d;
     // .off given directly loads (white 0.5, with a warning: the format has no materials).
     const auto off = dir.write("tri.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
