@@ -198,8 +198,8 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         const PatchMesh elements = s.tree.conforming_mesh(s.leaves);
         std::ostringstream setting;
         setting << "link epsilon " << eps;
-        add_row("hierarchical", setting.str(), s.links, seconds_since(t0), vs_fine(s.tree, s.leaves, s.result.radiosity),
-                elements, s.result.radiosity);
+        add_row("hierarchical", setting.str(), s.links, seconds_since(t0),
+                vs_fine(s.tree, s.leaves, s.result.radiosity), elements, s.result.radiosity);
     }
     if (interrupted_exit_code()) return interrupted_exit_code();
     std::ostringstream csv;
