@@ -52,11 +52,11 @@ struct CompareCommand {
     // meshes, adaptive elements, hierarchical radiosity.
     std::vector<std::string> mesh_methods = {"uniform", "patches", "discontinuity", "adaptive", "hierarchical"};
     std::vector<double> targets = {0.2, 0.1, 0.07, 0.05, 0.035};  // --meshes: adaptive target errors
-    // --meshes: hierarchical link epsilons, coarse to fine, so the rows draw a curve of error
-    // against time from about a second (the Cornell box) upwards.
+    // --meshes: hierarchical link epsilons, coarse to fine: the rows draw a curve of error
+    // against time.
     std::vector<double> link_epsilons = {0.8, 0.4, 0.2, 0.1, 0.05};
     // --meshes: hierarchical quadtree depth under each coarse patch; 3 makes the Cornell box's
-    // smallest elements those of a uniform mesh of about 5000 patches.
+    // smallest elements those of the uniform elements' level 3 (5,760 over its 90 patches).
     int max_level = 3;
     std::string reference;  // --reference: a `bounce reference` CSV; empty: probes cached in `out`
     std::vector<std::size_t> patch_counts = {250, 500, 1000, 2000, 4000, 8000};  // --meshes: uniform patch meshes
