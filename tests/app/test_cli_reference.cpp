@@ -120,8 +120,10 @@ TEST(CliReference, CompareMeshesScoresUniformMeshesFallingWithSize) {
     test::TempDir dir;
     const auto ref = dir / "ref.csv";
     ASSERT_EQ(bounce_run("reference --probes 64 --target-error 0.01 -q -o " + ref.string()).exit_code, 0);
-    const auto r = bounce_run("compare --meshes --reference-level 2 --patch-counts 250,500,1000,2000 --reference " +
-                              ref.string() + " --out " + dir.path().string());
+    const auto r = bounce_run(
+        "compare --meshes --reference-level 2 --patch-counts 250,500,1000,2000 --link-epsilons 0.4,0.2,0.1 "
+        "--max-level 1 --reference " +
+        ref.string() + " --out " + dir.path().string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const CsvTable t = read_csv(dir / "meshes.csv");
     for (const char* c : {"probe_rms_patch", "probe_max_patch", "probe_rms_smooth", "probe_max_smooth"})
