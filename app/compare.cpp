@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // bounce compare: every requested solver on every requested form-factor method against one
 // reference (convergence.csv and charts), or with --meshes uniform, adaptive and hierarchical
-// element meshes against one fine uniform reference (meshes.csv and a chart).
+// meshes of the scene, all scored at the same path-traced probes (meshes.csv and charts).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <string>
@@ -46,7 +47,17 @@ struct CompareCommand {
     std::size_t max_matrix_mb = 2048;
     std::size_t max_direct = 4000;
     bool meshes = false;
-    int reference_level = 5;
+    int reference_level = 5;  // --meshes: the fine uniform elements (0: none, for large scenes)
+    // --meshes: which families run: uniform elements, uniform patch meshes, discontinuity
+    // meshes, adaptive elements, hierarchical radiosity.
+    std::vector<std::string> mesh_methods = {"uniform", "patches", "discontinuity", "adaptive", "hierarchical"};
+    std::vector<double> targets = {0.2, 0.1, 0.07, 0.05, 0.035};  // --meshes: adaptive target errors
+    // --meshes: hierarchical link epsilons, coarse to fine: the rows draw a curve of error
+    // against time.
+    std::vector<double> link_epsilons = {0.8, 0.4, 0.2, 0.1, 0.05};
+    // --meshes: hierarchical quadtree depth under each coarse patch; 3 makes the Cornell box's
+    // smallest elements those of the uniform elements' level 3 (5,760 over its 90 patches).
+    int max_level = 3;
     std::string reference;  // --reference: a `bounce reference` CSV; empty: probes cached in `out`
     std::vector<std::size_t> patch_counts = {250, 500, 1000, 2000, 4000, 8000};  // --meshes: uniform patch meshes
     std::string gather = "vertices";  // point data of every run, as solve writes it
@@ -70,9 +81,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// bounce compare --meshes: uniform element meshes of several sizes, adaptive subdivision at
-/// several targets and hierarchical radiosity at several link tolerances, all over the same
-/// patches and against one fine uniform reference; meshes.csv, meshes.png and a table.
+/// bounce compare --meshes: uniform element meshes of several sizes, uniform and discontinuity
+/// patch meshes, adaptive subdivision at several targets and hierarchical radiosity at several
+/// link epsilons, each scored at the path-traced probes (and, but for hierarchical, against
+/// fine uniform elements over the same patches); meshes.csv, meshes.png and a table.
 int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     std::error_code ec;
     std::filesystem::create_directories(c.out, ec);
@@ -88,8 +100,9 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     a.max_elements = 200000;
     a.cancel = &g_interrupted;
     const double per_level = 4.0;
-    check_memory(o, "the reference elements' form-factor rows",
-                 double(P.size()) * std::pow(per_level, c.reference_level) * double(P.size()) * 4.0 * 2.0);
+    if (c.reference_level > 0)
+        check_memory(o, "the reference elements' form-factor rows",
+                     double(P.size()) * std::pow(per_level, c.reference_level) * double(P.size()) * 4.0 * 2.0);
     // The truth every row is scored on: path-traced probes, computed once and cached.
     const std::vector<ReferencePoint> probes = reference_for_compare(scene, c.reference, c.out, o.quiet);
     // Scores a solution as solve would write it: point data gathered (the time added to the
@@ -119,17 +132,29 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         r.probe = score_mesh(m, B, r.seconds, r.gathered);
         rows.push_back(std::move(r));
     };
-    const AdaptiveSolution reference = solve_uniform_elements(P, *visibility, c.reference_level, a);
-    add_row("reference", "uniform level " + std::to_string(c.reference_level), 0, reference.result.seconds, 0.0,
-            reference.tree.conforming_mesh(reference.leaves), reference.result.radiosity);
-    for (int level = 0; level < c.reference_level; ++level) {
+    auto wanted = [&](const char* method) {
+        return std::find(c.mesh_methods.begin(), c.mesh_methods.end(), method) != c.mesh_methods.end();
+    };
+    // The fine uniform elements ("vs fine"); --reference-level 0 skips them (a large scene's
+    // fine elements would need patches x elements form factors).
+    std::optional<AdaptiveSolution> reference;
+    auto vs_fine = [&](const ElementTree& tree, const std::vector<std::uint32_t>& leaves, const std::vector<Rgb>& B) {
+        return reference ? rms_difference(tree, leaves, B, *reference) : -1.0;
+    };
+    if (c.reference_level > 0) {
+        reference = solve_uniform_elements(P, *visibility, c.reference_level, a);
+        add_row("reference", "uniform level " + std::to_string(c.reference_level), 0, reference->result.seconds, 0.0,
+                reference->tree.conforming_mesh(reference->leaves), reference->result.radiosity);
+    }
+    for (int level = 0; level < c.reference_level && wanted("uniform"); ++level) {
         const AdaptiveSolution u = solve_uniform_elements(P, *visibility, level, a);
-        add_row("uniform", "level " + std::to_string(level), 0, u.result.seconds, rms_difference(u, reference),
-                u.tree.conforming_mesh(u.leaves), u.result.radiosity);
+        add_row("uniform", "level " + std::to_string(level), 0, u.result.seconds,
+                vs_fine(u.tree, u.leaves, u.result.radiosity), u.tree.conforming_mesh(u.leaves), u.result.radiosity);
     }
     // Uniform patch meshes solved by the default path (every patch shoots), as `solve --patches N` runs,
     // and the same area limits with --meshing discontinuity (the meshing's time counted in the row's).
     for (const auto kind : {MeshingOptions::Kind::uniform, MeshingOptions::Kind::discontinuity}) {
+        if (!wanted(kind == MeshingOptions::Kind::uniform ? "patches" : "discontinuity")) continue;
         for (const std::size_t n : c.patch_counts) {
             const auto t0 = std::chrono::steady_clock::now();
             MeshingOptions m = o.meshing;
@@ -148,27 +173,33 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         }
         if (g_interrupted.load()) break;
     }
-    for (const double target : {0.2, 0.1, 0.07, 0.05, 0.035}) {
+    for (const double target : c.targets) {
+        if (!wanted("adaptive") || g_interrupted.load()) break;
         AdaptiveOptions t = a;
         t.target_error = target;
         const AdaptiveSolution s = solve_adaptive(P, *visibility, t);
         std::ostringstream setting;
         setting << "target " << target;
-        add_row("adaptive", setting.str(), 0, s.result.seconds, rms_difference(s, reference),
+        add_row("adaptive", setting.str(), 0, s.result.seconds, vs_fine(s.tree, s.leaves, s.result.radiosity),
                 s.tree.conforming_mesh(s.leaves), s.result.radiosity);
     }
-    for (const double eps : {0.4, 0.2, 0.1}) {
+    // Hierarchical radiosity over the same coarse patches as the elements above (clustered),
+    // each link epsilon a point of the curve; the wall time counts refinement, solution and the
+    // conforming mesh a file would show.
+    for (const double eps : c.link_epsilons) {
+        if (!wanted("hierarchical") || g_interrupted.load()) break;
+        const auto t0 = std::chrono::steady_clock::now();
         HierarchicalOptions h;
         h.form_factors = c.ff;
         h.link_epsilon = eps;
-        h.max_level = std::max(1, c.reference_level - 2);
+        h.max_level = c.max_level;
         h.cancel = &g_interrupted;
         const HierarchicalSolution s = solve_hierarchical(P, *visibility, h);
+        const PatchMesh elements = s.tree.conforming_mesh(s.leaves);
         std::ostringstream setting;
         setting << "link epsilon " << eps;
-        add_row("hierarchical", setting.str(), s.links, s.result.seconds,
-                rms_difference(s.tree, s.leaves, s.result.radiosity, reference), s.tree.conforming_mesh(s.leaves),
-                s.result.radiosity);
+        add_row("hierarchical", setting.str(), s.links, seconds_since(t0),
+                vs_fine(s.tree, s.leaves, s.result.radiosity), elements, s.result.radiosity);
     }
     if (interrupted_exit_code()) return interrupted_exit_code();
     std::ostringstream csv;
@@ -221,7 +252,9 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
             "%zu patches shoot to the elements; \"vs fine\": RMS error of the reflected radiosity against "
             "%zu uniform elements; \"probe\": relative RMS luminance error at %zu path-traced probes "
             "(their own noise %.2f%%)\n",
-            P.size(), reference.leaves.size(), rows.front().probe.scored, 100 * rows.front().probe.reference_noise);
+            P.size(), reference ? reference->leaves.size() : std::size_t(0),
+            rows.empty() ? std::size_t(0) : rows.front().probe.scored,
+            rows.empty() ? 0.0 : 100 * rows.front().probe.reference_noise);
         std::printf("%-13s %-18s %9s %10s %9s %9s %11s %12s\n", "method", "setting", "elements", "links", "seconds",
                     "vs fine", "probe patch", "probe smooth");
         for (const auto& r : rows)
@@ -371,8 +404,9 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
                       "against one fine uniform reference, instead of solvers");
     cmp_cmd
         ->add_option("--reference-level", cmp->reference_level,
-                     "--meshes: the reference cuts every patch into 4^level elements (5)")
-        ->check(in_range(1, 7));
+                     "--meshes: the reference cuts every patch into 4^level elements (5; 0: no fine reference, "
+                     "no uniform elements)")
+        ->check(in_range(0, 7));
     cmp_cmd->add_option("--reference", cmp->reference,
                         "score every run at the points of this `bounce reference` CSV (default: path-trace " +
                             std::to_string(kCompareProbes) + " probes once and cache them in the output folder)");
@@ -380,6 +414,23 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
         ->add_option("--patch-counts", cmp->patch_counts,
                      "--meshes: uniform patch meshes solved by shooting, for the speed-accuracy chart")
         ->delimiter(',')
+        ->capture_default_str();
+    cmp_cmd
+        ->add_option("--methods", cmp->mesh_methods,
+                     "--meshes: uniform (elements), patches, discontinuity, adaptive, hierarchical (default: all)")
+        ->delimiter(',')
+        ->check(
+            CLI::IsMember(std::vector<std::string>{"uniform", "patches", "discontinuity", "adaptive", "hierarchical"}));
+    cmp_cmd->add_option("--targets", cmp->targets, "--meshes: adaptive target errors")
+        ->delimiter(',')
+        ->check(kPositive)
+        ->capture_default_str();
+    cmp_cmd->add_option("--link-epsilons", cmp->link_epsilons, "--meshes: hierarchical link epsilons")
+        ->delimiter(',')
+        ->check(kPositive)
+        ->capture_default_str();
+    cmp_cmd->add_option("--max-level", cmp->max_level, "--meshes: hierarchical quadtree depth under each coarse patch")
+        ->check(in_range(0, 12))
         ->capture_default_str();
     cmp_cmd
         ->add_option("--gather", cmp->gather,

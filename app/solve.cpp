@@ -311,7 +311,8 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                         "(Smits, Arvo and Greenberg 1994), to compare");
     solve_cmd
         ->add_option("--max-level", solve->hierarchical.max_level,
-                     "hierarchical: quadtree depth under each input face (4)")
+                     "hierarchical: quadtree depth under each input face, or under 1/2000 of the scene's area where a "
+                     "face is smaller (4)")
         ->check(in_range(0, 12));
     solve_cmd
         ->add_option("--tolerance", solve->options.tolerance,

@@ -153,19 +153,28 @@ PatchMesh ElementTree::conforming_mesh(const std::vector<std::uint32_t>& leaves)
         return id;
     };
     std::vector<std::vector<std::uint32_t>> corner_ids(leaves.size());
-    double shortest = 1e300;
+    std::vector<double> edge_lengths;
     for (std::size_t i = 0; i < leaves.size(); ++i) {
         const Patch& g = m_geometry[leaves[i]];
         for (int k = 0; k < g.vertex_count; ++k) {
             corner_ids[i].push_back(weld_point(g.surface, g.vertices[k]));
-            shortest = std::min(shortest, glm::length(g.vertices[(k + 1) % g.vertex_count] - g.vertices[k]));
+            edge_lengths.push_back(glm::length(g.vertices[(k + 1) % g.vertex_count] - g.vertices[k]));
         }
     }
-    // T-vertices: points of a surface lying strictly inside an edge of one of its leaves.
-    const double h = std::max(shortest, 16 * weld);
+    // T-vertices: points of a surface lying strictly inside an edge of one of its leaves. The
+    // grid's cell is the median leaf edge (at least 16 weld, so a point near an edge is in a
+    // neighbour of a cell the edge crosses): cells of the shortest edge made the long edges of
+    // coarse leaves search millions of cells at --max-level 4.
+    double h = 16 * weld;
+    if (!edge_lengths.empty()) {
+        auto mid = edge_lengths.begin() + std::ptrdiff_t(edge_lengths.size() / 2);
+        std::nth_element(edge_lengths.begin(), mid, edge_lengths.end());
+        h = std::max(h, *mid);
+    }
     std::map<Cell, std::vector<std::uint32_t>> grid;
     for (std::uint32_t q = 0; q < points.size(); ++q) grid[cell_of(point_surface[q], points[q], h)].push_back(q);
     std::vector<std::vector<std::uint32_t>> polygon_ids(leaves.size());
+    std::vector<Cell> cells;
     for (std::size_t i = 0; i < leaves.size(); ++i) {
         const Patch& g = m_geometry[leaves[i]];
         for (int k = 0; k < g.vertex_count; ++k) {
@@ -174,19 +183,41 @@ PatchMesh ElementTree::conforming_mesh(const std::vector<std::uint32_t>& leaves)
             polygon_ids[i].push_back(ia);
             const double len = glm::length(b - a);
             std::vector<std::pair<double, std::uint32_t>> on_edge;
+            // The cells to search: those of the edge's bounding box when few, else the cells
+            // around points every h/2 along the edge. A point within 4 weld (< h/4) of the edge
+            // lies in a neighbour of a cell the edge passes through; the box of a long slanted
+            // edge holds (length / h)^2 cells.
+            cells.clear();
             const Cell c0 = cell_of(g.surface, glm::min(a, b) - weld, h), c1 = cell_of(g.surface, glm::max(a, b) + weld, h);
-            for (auto x = std::get<1>(c0); x <= std::get<1>(c1); ++x)
-                for (auto y = std::get<2>(c0); y <= std::get<2>(c1); ++y)
-                    for (auto z = std::get<3>(c0); z <= std::get<3>(c1); ++z) {
-                        auto it = grid.find(Cell{g.surface, x, y, z});
-                        if (it == grid.end()) continue;
-                        for (const std::uint32_t q : it->second) {
-                            if (q == ia || q == ib) continue;
-                            const double t = glm::dot(points[q] - a, b - a) / (len * len);
-                            if (t <= 1e-9 || t >= 1 - 1e-9) continue;
-                            if (glm::length(a + t * (b - a) - points[q]) <= 4 * weld) on_edge.emplace_back(t, q);
-                        }
-                    }
+            const double box = double(std::get<1>(c1) - std::get<1>(c0) + 1) * double(std::get<2>(c1) - std::get<2>(c0) + 1) *
+                               double(std::get<3>(c1) - std::get<3>(c0) + 1);
+            const auto steps = std::int64_t(std::ceil(2.0 * len / h));
+            if (box <= 27.0 * double(steps + 1)) {
+                for (auto x = std::get<1>(c0); x <= std::get<1>(c1); ++x)
+                    for (auto y = std::get<2>(c0); y <= std::get<2>(c1); ++y)
+                        for (auto z = std::get<3>(c0); z <= std::get<3>(c1); ++z) cells.emplace_back(g.surface, x, y, z);
+            } else {
+                for (std::int64_t s = 0; s <= steps; ++s) {
+                    const Cell c = cell_of(g.surface, a + (double(s) / double(steps)) * (b - a), h);
+                    for (std::int64_t dx = -1; dx <= 1; ++dx)
+                        for (std::int64_t dy = -1; dy <= 1; ++dy)
+                            for (std::int64_t dz = -1; dz <= 1; ++dz)
+                                cells.emplace_back(g.surface, std::get<1>(c) + dx, std::get<2>(c) + dy,
+                                                   std::get<3>(c) + dz);
+                }
+                std::sort(cells.begin(), cells.end());
+                cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+            }
+            for (const Cell& cell : cells) {
+                auto it = grid.find(cell);
+                if (it == grid.end()) continue;
+                for (const std::uint32_t q : it->second) {
+                    if (q == ia || q == ib) continue;
+                    const double t = glm::dot(points[q] - a, b - a) / (len * len);
+                    if (t <= 1e-9 || t >= 1 - 1e-9) continue;
+                    if (glm::length(a + t * (b - a) - points[q]) <= 4 * weld) on_edge.emplace_back(t, q);
+                }
+            }
             std::sort(on_edge.begin(), on_edge.end());
             for (const auto& e : on_edge) polygon_ids[i].push_back(e.second);
         }

@@ -403,10 +403,6 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     auto since_start = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0, 0, 0, 0.0};
     ElementTree& tree = out.tree;
-    std::vector<double> min_area(patches.size());
-    for (std::size_t r = 0; r < patches.size(); ++r)
-        min_area[r] = options.min_area > 0 ? options.min_area : patches[r].area / std::pow(4.0, options.max_level);
-
     // First estimate of B for the oracle: emission plus the ambient term (the emitted power
     // spread over all area and inter-reflected by the mean reflectance).
     double total_area = 0.0;
@@ -416,6 +412,15 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         power += p.emission * p.area;
         rho_area += p.reflectance * p.area;
     }
+    // The depth counts from the patch or from the base, whichever is larger: the oracle's
+    // spread-to-mean ratio does not fall with size where surfaces touch, so without the base
+    // every small triangle touching another was cut max_level times (the 2k office: 2,004
+    // elements at max level 0, 7,902 at 1 with 1.34 million links).
+    std::vector<double> min_area(patches.size());
+    const double base = options.level_base * total_area;
+    for (std::size_t r = 0; r < patches.size(); ++r)
+        min_area[r] = options.min_area > 0 ? options.min_area
+                                           : std::max(patches[r].area, base) / std::pow(4.0, options.max_level);
     Rgb ambient;
     for (int c = 0; c < 3; ++c) ambient[c] = power[c] / total_area / std::max(1e-3, 1.0 - rho_area[c] / total_area);
     std::vector<Rgb> B(patches.size());

@@ -17,8 +17,9 @@ struct HierarchicalOptions {
     double link_epsilon = 0.1;       // link when the error bound is below this share of what the link brings
     double link_floor = 1e-3;        // ... plus this share of the scene's mean radiosity (faint links stay coarse)
     int refine_rounds = 3;           // refine links with the last solution's B, then solve; this many times
-    double min_area = 0.0;           // never split an element smaller than this (0: the patch area / 4^max_level)
-    int max_level = 4;               // quadtree depth under each patch
+    double min_area = 0.0;           // never split an element smaller than this (0: from level_base)
+    double level_base = 1.0 / 2000;  // min_area 0: max(patch area, this share of the scene's) / 4^max_level
+    int max_level = 4;               // quadtree depth under each patch, or under the base where that is larger
     bool clustering = true;          // start from the root cluster's self-link, not from every pair of patches
     double cluster_floor = 0.1;      // a cluster link's error floor, a share of the scene's mean radiosity
     bool cluster_visibility = true;  // cluster links: visible fraction of rays between member centroids

@@ -451,7 +451,9 @@ TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
 
 TEST(Cli, CompareMeshesWritesRowsForEveryMethodAgainstOneReference) {
     test::TempDir dir;
-    const auto r = bounce_run("compare --meshes --reference-level 3 --patch-counts 250 --out " + dir.path().string());
+    const auto r = bounce_run(
+        "compare --meshes --reference-level 3 --patch-counts 250 --link-epsilons 0.4,0.2,0.1 --max-level 1 --out " +
+        dir.path().string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string csv = slurp(dir / "meshes.csv");
     EXPECT_EQ(csv.rfind("method,setting,elements,links,seconds,rms_error,probe_rms_patch,", 0), 0u);

@@ -241,3 +241,78 @@ TEST(Clustering, DeterministicOnAnyThreadCount) {
             for (int c = 0; c < 3; ++c) ASSERT_EQ(runs[r][k][c], runs[0][k][c]) << "run " << r << " leaf " << k;
     }
 }
+
+// Issue 17: rooms of small triangles at the default max level 4 refined without end (the 2k
+// office: 2,004 elements at max level 0, 7,902 at 1, 31,152 at 2 with 7.3 million links).
+// A fin of 32 small triangles (3.1e-4 each) stands 1e-3 above the floor of a box of 12 large
+// ones under an emitting ceiling; the pairs at the near-contact are refined as far as the
+// depth allows. The depth now counts from the larger of the patch and 1/2000 of the scene's
+// area (the default mesh's patch): the fin's triangles stop at level 2 (3.1e-4 / 16 = 1.9e-5
+// is below 4 x 0.003 / 256), the large faces still reach level 4. Measured: 3,584 elements;
+// with the base switched off (the old depth) the fin is cut to level 4 and there are 10,166.
+TEST(Hierarchical, SmallTrianglesAreCutNoFinerThanTheDefaultPatchMaxLevelTimes) {
+    std::vector<Patch> P = triangle_box(1);  // 12 triangles of 0.5
+    for (auto& p : P)
+        if (p.surface == 3) p.emission = Rgb::gray(10.0);  // the ceiling (y = 1, facing down) emits
+    const std::size_t box = P.size();
+    const int n = 4;
+    const double side = 0.1 / n;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const glm::dvec3 c00(0.5, 0.001 + i * side, 0.45 + j * side);
+            const glm::dvec3 c10 = c00 + glm::dvec3(0, side, 0), c01 = c00 + glm::dvec3(0, 0, side),
+                             c11 = c10 + glm::dvec3(0, 0, side);
+            for (int t = 0; t < 2; ++t) {
+                Patch p;
+                p.vertex_count = 3;
+                p.vertices = t == 0 ? std::array<glm::dvec3, 4>{c00, c10, c11, {}}
+                                    : std::array<glm::dvec3, 4>{c00, c11, c01, {}};
+                const glm::dvec3 normal(1, 0, 0);
+                if (glm::dot(glm::cross(p.vertices[1] - p.vertices[0], p.vertices[2] - p.vertices[0]), normal) < 0)
+                    std::swap(p.vertices[1], p.vertices[2]);
+                p.centre = (p.vertices[0] + p.vertices[1] + p.vertices[2]) / 3.0;
+                p.normal = normal;
+                p.area = 0.5 * side * side;
+                p.reflectance = Rgb::gray(0.6);
+                p.surface = 6;
+                P.push_back(p);
+            }
+        }
+    const auto vis = make_visibility("embree", P);
+    struct Depths {
+        int fin = 0, large = 0;
+        double smallest_fin = 1e300;
+        std::size_t elements = 0;
+    };
+    auto run = [&](double level_base) {
+        HierarchicalOptions h;  // max level 4, the default
+        h.level_base = level_base;
+        h.refine_rounds = 1;
+        const HierarchicalSolution s = solve_hierarchical(P, *vis, h);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR((s.result.absorbed_power[c] + s.result.escaped_power[c]) / s.result.emitted_power[c], 1.0,
+                        1e-9);
+        Depths d;
+        d.elements = s.leaves.size();
+        for (const auto l : s.leaves) {
+            const auto& node = s.tree.node(l);
+            if (node.root >= box) {
+                d.fin = std::max(d.fin, int(node.level));
+                d.smallest_fin = std::min(d.smallest_fin, s.tree.geometry()[l].area);
+            } else {
+                d.large = std::max(d.large, int(node.level));
+            }
+        }
+        std::printf("level base %g: %zu elements, fin cut to level %d (smallest %.3g), large faces to %d\n",
+                    level_base, d.elements, d.fin, d.smallest_fin, d.large);
+        return d;
+    };
+    const Depths now = run(1.0 / 2000), before = run(0.0);
+    double total = 0.0;
+    for (const auto& p : P) total += p.area;
+    EXPECT_EQ(now.fin, 2);
+    EXPECT_GE(now.smallest_fin, total / 2000 / 256);
+    EXPECT_EQ(now.large, 4);
+    EXPECT_EQ(before.fin, 4);
+    EXPECT_LT(now.elements, before.elements);
+}
