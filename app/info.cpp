@@ -50,7 +50,7 @@ int run_info(const CommonOptions& o, const InfoCommand& c) {
               << "patches:        " << mesh.size() << " (edge " << mesh.edge_length() << ")\n"
               << "total area:     " << mesh.total_area() << "\n"
               << "emitted power:  " << e.to_string() << "\n"
-              << "warnings:       " << scene.warnings.size() << "\n";
+              << "warnings:       " << scene.warnings.size() + mesh.warnings().size() << "\n";
     // The surfaces themselves, as --help promises: where each came from, its material, area
     // and patches.
     std::vector<std::size_t> patches(scene.surfaces.size(), 0);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include <OpenMesh/Core/System/omstream.hh>
 #include <glm/geometric.hpp>
 
 #include "mesh/contact_cuts.h"
@@ -141,6 +142,16 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     m_patches.reserve(std::size_t(planned));
     m_parent.reserve(std::size_t(planned));
     std::uint32_t parent = 0;  // index of the current element's patch in the split = 1 mesh
+    std::size_t apart = 0;     // faces OpenMesh would not join to their neighbours
+    int first_apart = -1;
+    // OpenMesh prints its refusals on its own error stream; they are counted and reported below.
+    struct QuietOpenMesh {
+        bool was = omerr().is_enabled();
+        QuietOpenMesh() { omerr().disable(); }
+        ~QuietOpenMesh() {
+            if (was) omerr().enable();
+        }
+    } quiet;
     auto emit_face = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
         const auto& surface = scene.surfaces[si];
         const auto& mat = scene.materials[surface.material];
@@ -157,8 +168,19 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         p.reflectance = mat.reflectance;
         p.emission = mat.emission;
         p.surface = si;
-        const auto f = m_mesh.add_face(vh);
-        if (!f.is_valid()) throw std::runtime_error("patch mesh: OpenMesh refused a face of surface " + surface.where.to_string());
+        auto f = m_mesh.add_face(vh);
+        if (!f.is_valid()) {
+            // OpenMesh refuses a face that would make an edge non-manifold ("complex edge": pieces
+            // of a contact cut meeting at a point merged within its tolerance). The patch itself
+            // is sound, so it goes in on vertices of its own: a seam in the exported mesh there,
+            // said in one warning, rather than no mesh at all.
+            std::vector<OpenPatchMesh::VertexHandle> own;
+            for (const auto& h : vh) own.push_back(m_mesh.add_vertex(m_mesh.point(h)));
+            f = m_mesh.add_face(own);
+            if (!f.is_valid())
+                throw std::runtime_error("patch mesh: OpenMesh refused a face of surface " + surface.where.to_string());
+            if (apart++ == 0) first_apart = si;
+        }
         m_mesh.property(face_surface, f) = si;
         m_patches.push_back(p);
         m_parent.push_back(parent);
@@ -398,6 +420,15 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     // split 1 every face is its own parent.
     if (cut || options.kind == MeshingOptions::Kind::discontinuity)
         for (std::size_t i = 0; i < m_parent.size(); ++i) m_parent[i] = std::uint32_t(i);
+    if (apart > 0) {
+        const auto& first = scene.surfaces[std::size_t(first_apart)];
+        const bool one = apart == 1;
+        m_warnings.push_back("meshing: " + std::to_string(apart) + (one ? " patch on " : " patches (the first on ") +
+                             describe(first.where, first.object) + (one ? "" : ")") +
+                             (one ? " would not join its neighbours' edges and keeps vertices of its own"
+                                  : " would not join their neighbours' edges and keep vertices of their own") +
+                             " (OpenMesh: complex edge): the exported mesh has a seam there");
+    }
 }
 
 PatchMesh::PatchMesh(std::vector<Patch> patches, const std::vector<glm::dvec3>& points,

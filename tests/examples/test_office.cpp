@@ -210,9 +210,11 @@ TEST(Office, ClosedOfficeConservesEnergy) {
     ASSERT_EQ(run(office(path, 2000)).exit_code, 0);
     const Scene scene = load_scene(path.string());
     MeshingOptions mo;
-    mo.subdivide = false;     // one patch per triangle: about 2000 patches
-    mo.cut_contacts = false;  // with subdivide off, contact cuts make OpenMesh refuse a face (a bounce bug)
+    mo.subdivide = false;  // one patch per triangle (and the contact cuts' pieces)
     const PatchMesh mesh(scene, mo);
+    // A cut piece OpenMesh will not join to its neighbours keeps vertices of its own, with one
+    // warning line, instead of failing the whole mesh (it did: "complex edge").
+    EXPECT_LE(mesh.warnings().size(), 1u);
     const auto t0 = std::chrono::steady_clock::now();
     const auto vis = make_embree_visibility(mesh.patches());
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), vis.get(), {});
@@ -224,10 +226,10 @@ TEST(Office, ClosedOfficeConservesEnergy) {
     for (int c = 0; c < 3; ++c) {
         const double e = r.emitted_power[c];
         EXPECT_NEAR((r.absorbed_power[c] + r.escaped_power[c] + r.unshot_power[c]) / e, 1.0, 1e-9);
-        // Measured 0.13-0.16: without contact cuts (they fail with subdivide off, a bounce
-        // bug noted in examples/office/README.md) the floor under a cabinet or the shelf under a
-        // book is still a patch, and what it shoots into the furniture's open underside is lost.
-        EXPECT_LT(std::abs(r.escaped_power[c]) / e, 0.2) << "channel " << c;
+        // Measured 0.10-0.12 per channel; without contact cuts 0.13-0.16 (the floor under a
+        // cabinet or the shelf under a book was still a patch, and what it shot into the
+        // furniture's open underside was lost).
+        EXPECT_LT(std::abs(r.escaped_power[c]) / e, 0.15) << "channel " << c;
     }
     std::printf("closed office: %zu patches, %zu shots, unshot %.3g, %.1f s, escaped/emitted %.3g %.3g %.3g\n",
                 mesh.size(), r.steps, r.unshot_fraction, secs, r.escaped_power[0] / r.emitted_power[0],
