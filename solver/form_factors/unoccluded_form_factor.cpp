@@ -11,38 +11,36 @@
 
 namespace bounce {
 
-UnoccludedFormFactor::UnoccludedFormFactor(const std::vector<Patch>& patches, double tolerance)
-    : m_patches(patches), m_tolerance(tolerance) {
+GaussPointCache::GaussPointCache(const std::vector<Patch>& patches, double tolerance) : m_patches(patches) {
     if (!(tolerance > 0)) throw std::invalid_argument("form-factor tolerance must be positive");
-    // Gauss points of orders 1..kCachedOrders per patch, end to end: far pairs need only these.
-    m_points.reserve(patches.size() * kCachedPoints);
-    m_radius.reserve(patches.size());
     // Order n serves once separation_rho(gap, r)^(2n) >= 1/tol. rho = g + sqrt(g^2 + 1) grows with
     // g = gap / r and inverts to g = (rho - 1/rho) / 2, so the test is gap >= r g_n: no root per pair.
-    for (int n = 1; n <= kProductOrders; ++n) {
+    for (int n = 1; n <= kMaxOrder; ++n) {
         const double rho = std::pow(1.0 / tolerance, 1.0 / (2.0 * n));
         m_gap_needed[std::size_t(n)] = 0.5 * (rho - 1.0 / rho);
     }
-    thread_local std::vector<AreaSample> q;
-    for (const Patch& p : patches)
+    // Gauss points of orders 1..kCachedOrders per patch, end to end: far pairs need only these.
+    m_points.reserve(patches.size() * kCachedPoints);
+    m_radius.reserve(patches.size());
+    std::vector<AreaSample> q;
+    for (const Patch& p : patches) {
+        m_radius.push_back(circumradius(p));
         for (int n = 1; n <= kCachedOrders; ++n) {
             patch_quadrature(p, n, q);
             m_points.insert(m_points.end(), q.begin(), q.end());
         }
-    for (const Patch& p : patches) m_radius.push_back(circumradius(p));
+    }
 }
 
-int UnoccludedFormFactor::cached_order(double gap, double radius) const {
+int GaussPointCache::order(double gap, double radius, int max_order) const {
     if (!(gap > 0.0) || !(radius > 0.0)) return 0;  // not separated (separation_rho is 0)
-    for (int n = 1; n <= kProductOrders; ++n)
+    for (int n = 1; n <= std::min(max_order, kMaxOrder); ++n)
         if (gap >= m_gap_needed[std::size_t(n)] * radius) return n;
-    return kProductOrders + 1;
+    return max_order + 1;
 }
 
-std::span<const AreaSample> UnoccludedFormFactor::gauss_points(std::size_t patch, int n,
-                                                               std::vector<AreaSample>& scratch) const {
-    // Patches added after construction (refinement appends elements) are not cached.
-    if (n > kCachedOrders || patch >= m_points.size() / kCachedPoints) {
+std::span<const AreaSample> GaussPointCache::points(std::size_t patch, int n, std::vector<AreaSample>& scratch) const {
+    if (n > kCachedOrders || patch >= m_radius.size()) {
         patch_quadrature(m_patches[patch], n, scratch);
         return scratch;
     }
@@ -51,16 +49,18 @@ std::span<const AreaSample> UnoccludedFormFactor::gauss_points(std::size_t patch
     return {m_points.data() + first, std::size_t(n * n)};
 }
 
+UnoccludedFormFactor::UnoccludedFormFactor(const std::vector<Patch>& patches, double tolerance)
+    : m_patches(patches), m_tolerance(tolerance), m_gauss(patches, tolerance) {}
+
 double UnoccludedFormFactor::operator()(std::size_t from, std::size_t to) const {
     const Patch& a = m_patches[from];
     const Patch& b = m_patches[to];
     const double tol = m_tolerance;
     // Only whole pairs in front of each other suit the product rule; one that straddles the
     // other's plane is clipped first (polygon_form_factor does that).
-    const bool cached = std::max(from, to) < m_radius.size();
-    const double ra = cached ? m_radius[from] : circumradius(a), rb = cached ? m_radius[to] : circumradius(b);
+    const double ra = m_gauss.radius(from), rb = m_gauss.radius(to);
     const double gap = glm::length(b.centre - a.centre) - ra - rb;
-    const int na = cached_order(gap, ra), nb = cached_order(gap, rb);
+    const int na = m_gauss.order(gap, ra, kProductOrders), nb = m_gauss.order(gap, rb, kProductOrders);
     // Near pairs (high predicted orders) cost less by the point-to-polygon kernel or, when
     // touching, the contour integral; both are in polygon_form_factor.
     // In front by the bounding spheres first (one dot product: a sphere about q's centre of
@@ -71,7 +71,7 @@ double UnoccludedFormFactor::operator()(std::size_t from, std::size_t to) const 
     if (na == 0 || nb == 0 || na > kProductOrders || nb > kProductOrders || !in_front(a, b, rb) || !in_front(b, a, ra))
         return polygon_form_factor(a.polygon(), a.normal, b.polygon(), b.normal, tol);
     thread_local std::vector<AreaSample> qa, qb;
-    return separated_form_factor(gauss_points(from, na, qa), a.normal, gauss_points(to, nb, qb), b.area, b.normal);
+    return separated_form_factor(m_gauss.points(from, na, qa), a.normal, m_gauss.points(to, nb, qb), b.area, b.normal);
 }
 
 }  // namespace bounce

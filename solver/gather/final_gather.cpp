@@ -2,8 +2,8 @@
 #include "solver/gather/final_gather.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
+#include <optional>
 
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
@@ -11,6 +11,7 @@
 #include "solver/form_factors/patch_sampling.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/form_factors/polygon_form_factor.h"
+#include "solver/form_factors/unoccluded_form_factor.h"
 
 namespace bounce {
 namespace {
@@ -20,49 +21,31 @@ namespace {
 /// the pair's separation predicts (as UnoccludedFormFactor does for patch pairs).
 class PointFactor {
 public:
-    PointFactor(const std::vector<Patch>& patches, double tolerance) : m_patches(patches), m_tolerance(tolerance) {
-        if (!(tolerance > 0)) return;
-        for (int n = 1; n <= kOrders; ++n) m_rho_needed[std::size_t(n)] = std::pow(1.0 / tolerance, 1.0 / (2.0 * n));
-        m_radius.reserve(patches.size());
-        m_points.reserve(patches.size() * kPoints);
-        std::vector<AreaSample> q;
-        for (const Patch& p : patches) {
-            m_radius.push_back(circumradius(p));
-            for (int n = 1; n <= kOrders; ++n) {
-                patch_quadrature(p, n, q);
-                m_points.insert(m_points.end(), q.begin(), q.end());
-            }
-        }
+    PointFactor(const std::vector<Patch>& patches, double tolerance) : m_patches(patches) {
+        if (tolerance > 0) m_gauss.emplace(patches, tolerance);
     }
 
     /// F(dA at x with normal n -> patch j), for x in front of patch j.
     double operator()(const glm::dvec3& x, const glm::dvec3& n, std::size_t j) const {
         const Patch& p = m_patches[j];
-        if (m_tolerance > 0) {
-            const double rho = separation_rho(glm::length(p.centre - x) - m_radius[j], m_radius[j]);
-            int order = 0;
-            for (int k = 1; k <= kOrders && order == 0; ++k)
-                if (rho > 0 && rho >= m_rho_needed[std::size_t(k)]) order = k;
-            bool above = order > 0;  // the rule needs the kernel smooth: no part below x's horizon
+        if (m_gauss) {
+            const double r = m_gauss->radius(j);
+            const int order = m_gauss->order(glm::length(p.centre - x) - r, r, kOrders);
+            bool above = order > 0 && order <= kOrders;  // the rule needs the kernel smooth: no part below x's horizon
             for (int v = 0; v < p.vertex_count && above; ++v) above = glm::dot(n, p.vertices[v] - x) > 0;
             if (above) {
                 const AreaSample at_x{x, 1.0};
-                const std::size_t first = j * kPoints + std::size_t((order - 1) * order * (2 * order - 1) / 6);
-                return separated_form_factor({&at_x, 1}, n, {m_points.data() + first, std::size_t(order * order)},
-                                             p.area, p.normal);
+                std::vector<AreaSample> unused;  // orders up to kOrders come from the cache
+                return separated_form_factor({&at_x, 1}, n, m_gauss->points(j, order, unused), p.area, p.normal);
             }
         }
         return point_polygon_form_factor(x, n, p.polygon());
     }
 
 private:
-    static constexpr int kOrders = 4;                       // beyond: Lambert's formula is cheaper
-    static constexpr std::size_t kPoints = 1 + 4 + 9 + 16;  // orders 1..kOrders, end to end per patch
+    static constexpr int kOrders = GaussPointCache::kCachedOrders;  // beyond: Lambert's formula is cheaper
     const std::vector<Patch>& m_patches;
-    double m_tolerance;
-    std::array<double, kOrders + 1> m_rho_needed{};  // [n]: the smallest rho order n serves
-    std::vector<double> m_radius;                    // circumradius per patch
-    std::vector<AreaSample> m_points;                // Gauss points, weights as fractions of the area
+    std::optional<GaussPointCache> m_gauss;  // with a positive tolerance only
 };
 
 }  // namespace

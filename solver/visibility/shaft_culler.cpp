@@ -77,14 +77,9 @@ ShaftCuller::ShaftCuller(const std::vector<Patch>& patches) : m_patches(patches)
     m_below.assign(n * m_words, 0);
     for (std::size_t k = 0; k < n && m_words > 0; ++k)
         for (std::size_t g = 0; g < m_groups.size(); ++g) {
-            bool pos = true, neg = true;  // as beside() for this patch's vertices alone
-            for (int v = 0; v < patches[k].vertex_count; ++v) {
-                const double h = glm::dot(m_groups[g].normal, patches[k].vertices[v]) - m_groups[g].offset;
-                pos &= h >= m_groups[g].spread - m_tol;
-                neg &= h <= m_tol - m_groups[g].spread;
-            }
-            if (pos) m_above[k * m_words + g / 64] |= std::uint64_t(1) << (g % 64);
-            if (neg) m_below[k * m_words + g / 64] |= std::uint64_t(1) << (g % 64);
+            const Sides s = sides(m_groups[g], patches[k].vertices.data(), patches[k].vertex_count);
+            if (s.above) m_above[k * m_words + g / 64] |= std::uint64_t(1) << (g % 64);
+            if (s.below) m_below[k * m_words + g / 64] |= std::uint64_t(1) << (g % 64);
         }
     m_nodes.reserve(2 * n + m_groups.size());
     for (std::size_t g = 0; g < m_groups.size(); ++g) {
@@ -101,16 +96,14 @@ bool ShaftCuller::supporting(const Group& g, const std::vector<Patch>& patches, 
     // The scene's box first (enough for axis-aligned rooms), then its vertices, stopping at the
     // first one on the wrong side (quick in cluttered scenes, where most planes are crossed).
     const double top = box_max(lo, hi, g.normal) - g.offset, bottom = -box_max(lo, hi, -g.normal) - g.offset;
-    const double above = g.spread - m_tol, below = m_tol - g.spread;
-    if (bottom >= above || top <= below) return true;
-    bool pos = true, neg = true;
-    for (std::size_t k = 0; k < patches.size() && (pos || neg); ++k)
-        for (int v = 0; v < patches[k].vertex_count; ++v) {
-            const double h = glm::dot(g.normal, patches[k].vertices[v]) - g.offset;
-            pos &= h >= above;
-            neg &= h <= below;
-        }
-    return pos || neg;
+    if (bottom >= g.spread - m_tol || top <= m_tol - g.spread) return true;
+    bool above = true, below = true;
+    for (std::size_t k = 0; k < patches.size() && (above || below); ++k) {
+        const Sides s = sides(g, patches[k].vertices.data(), patches[k].vertex_count);
+        above &= s.above;
+        below &= s.below;
+    }
+    return above || below;
 }
 
 void ShaftCuller::build(std::uint32_t node, std::uint32_t begin, std::uint32_t end) {
@@ -163,16 +156,21 @@ ShaftCorners shaft_corners(const Patch& p, const Patch& q) {
 
 }  // namespace
 
-bool ShaftCuller::beside(const Group& g, const glm::dvec3* pts, int np) const {
-    // The whole shaft on one side of the group's plane (or on it, within the tolerance less
-    // the members' spread about the plane): nothing in the group blocks.
-    bool pos = true, neg = true;
+ShaftCuller::Sides ShaftCuller::sides(const Group& g, const glm::dvec3* pts, int np) const {
+    // Beyond the members' spread about the plane, less the tolerance: on it counts as both.
+    Sides s;
     for (int m = 0; m < np; ++m) {
         const double h = glm::dot(g.normal, pts[m]) - g.offset;
-        pos &= h >= g.spread - m_tol;
-        neg &= h <= m_tol - g.spread;
+        s.above &= h >= g.spread - m_tol;
+        s.below &= h <= m_tol - g.spread;
     }
-    return pos || neg;
+    return s;
+}
+
+bool ShaftCuller::beside(const Group& g, const glm::dvec3* pts, int np) const {
+    // The whole shaft on one side of the group's plane: nothing in the group blocks.
+    const Sides s = sides(g, pts, np);
+    return s.above || s.below;
 }
 
 bool ShaftCuller::clear(std::size_t i, std::size_t j) const {

@@ -55,6 +55,12 @@ private:
     /// of a convex room are such planes (View3D's prescreen finds the same: no rays at all).
     bool supporting(const Group& g, const std::vector<Patch>& patches, const glm::dvec3& lo,
                     const glm::dvec3& hi) const;
+    /// Whether all the points lie above g's plane, and whether all lie below it, beyond its
+    /// spread: the one side test behind beside(), the per-patch bits and supporting().
+    struct Sides {
+        bool above = true, below = true;
+    };
+    Sides sides(const Group& g, const glm::dvec3* pts, int np) const;
     /// True when the points (the pair's vertices) lie on one side of g's plane, beyond its spread.
     bool beside(const Group& g, const glm::dvec3* pts, int np) const;
 
