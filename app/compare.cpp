@@ -58,6 +58,8 @@ struct CompareCommand {
     // --meshes: hierarchical quadtree depth under each coarse patch; 3 makes the Cornell box's
     // smallest elements those of the uniform elements' level 3 (5,760 over its 90 patches).
     int max_level = 3;
+    // --meshes: hierarchical power epsilons (BF refinement on power), each with every link epsilon
+    std::vector<double> power_epsilons = {HierarchicalOptions{}.power_epsilon};
     std::string reference;  // --reference: a `bounce reference` CSV; empty: probes cached in `out`
     std::vector<std::size_t> patch_counts = {250, 500, 1000, 2000, 4000, 8000};  // --meshes: uniform patch meshes
     std::string gather = "vertices";  // point data of every run, as solve writes it
@@ -186,21 +188,24 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     // Hierarchical radiosity over the same coarse patches as the elements above (clustered),
     // each link epsilon a point of the curve; the wall time counts refinement, solution and the
     // conforming mesh a file would show.
-    for (const double eps : c.link_epsilons) {
-        if (!wanted("hierarchical") || g_interrupted.load()) break;
-        const auto t0 = std::chrono::steady_clock::now();
-        HierarchicalOptions h;
-        h.form_factors = c.ff;
-        h.link_epsilon = eps;
-        h.max_level = c.max_level;
-        h.cancel = &g_interrupted;
-        const HierarchicalSolution s = solve_hierarchical(P, *visibility, h);
-        const PatchMesh elements = s.tree.conforming_mesh(s.leaves);
-        std::ostringstream setting;
-        setting << "link epsilon " << eps;
-        add_row("hierarchical", setting.str(), s.links, seconds_since(t0),
-                vs_fine(s.tree, s.leaves, s.result.radiosity), elements, s.result.radiosity);
-    }
+    for (const double eps : c.link_epsilons)
+        for (const double power_eps : c.power_epsilons) {
+            if (!wanted("hierarchical") || g_interrupted.load()) break;
+            const auto t0 = std::chrono::steady_clock::now();
+            HierarchicalOptions h;
+            h.form_factors = c.ff;
+            h.link_epsilon = eps;
+            h.power_epsilon = power_eps;
+            h.max_level = c.max_level;
+            h.cancel = &g_interrupted;
+            const HierarchicalSolution s = solve_hierarchical(P, *visibility, h);
+            const PatchMesh elements = s.tree.conforming_mesh(s.leaves);
+            std::ostringstream setting;
+            setting << "link epsilon " << eps;
+            if (power_eps > 0) setting << " power epsilon " << power_eps;
+            add_row("hierarchical", setting.str(), s.links, seconds_since(t0),
+                    vs_fine(s.tree, s.leaves, s.result.radiosity), elements, s.result.radiosity);
+        }
     if (interrupted_exit_code()) return interrupted_exit_code();
     std::ostringstream csv;
     csv << "method,setting,elements,links,seconds,rms_error," << kProbeColumns << ",point_data\n";
@@ -428,6 +433,12 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
     cmp_cmd->add_option("--link-epsilons", cmp->link_epsilons, "--meshes: hierarchical link epsilons")
         ->delimiter(',')
         ->check(kPositive)
+        ->capture_default_str();
+    cmp_cmd
+        ->add_option("--power-epsilons", cmp->power_epsilons,
+                     "--meshes: hierarchical power epsilons, each run with every link epsilon (0: off)")
+        ->delimiter(',')
+        ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     cmp_cmd->add_option("--max-level", cmp->max_level, "--meshes: hierarchical quadtree depth under each coarse patch")
         ->check(in_range(0, 12))

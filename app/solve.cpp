@@ -94,13 +94,18 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         h.clustering = !s.no_clustering;
         h.form_factors = s.ff;
         h.cancel = &g_interrupted;
+        h.progress = [&](const std::string& stage, std::size_t done, std::size_t total) {
+            progress.items(stage.c_str(), done, total);
+        };
         HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
+        progress.finish();
         elements.emplace(sol.tree.conforming_mesh(sol.leaves));
         res = std::move(sol.result);
         const double n = double(sol.leaves.size());
-        settings << " solver=hierarchical link_epsilon=" << h.link_epsilon << " link_floor=" << h.link_floor
-                 << " max_level=" << h.max_level << " clustering=" << (h.clustering ? 1 : 0)
-                 << " elements=" << sol.leaves.size() << " links=" << sol.links;
+        settings << " solver=hierarchical link_epsilon=" << h.link_epsilon << " power_epsilon=" << h.power_epsilon
+                 << " link_floor=" << h.link_floor << " max_level=" << h.max_level
+                 << " clustering=" << (h.clustering ? 1 : 0) << " elements=" << sol.leaves.size()
+                 << " links=" << sol.links;
         summary << "patches " << mesh.size() << ", hierarchical: " << sol.leaves.size() << " elements, " << sol.links
                 << " links (" << 100.0 * double(sol.links) / (n * n) << "% of N^2; " << sol.cluster_links
                 << " with a cluster, " << sol.clusters << " clusters), " << res.steps << " iterations, " << res.seconds
@@ -123,6 +128,8 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
                 << sol.rounds.size() << " rounds, RMS error estimate " << sol.rounds.back().rms_estimate << " (target "
                 << a.target_error << "), " << res.seconds << " s\n";
     }
+    if (!o.quiet)
+        for (const auto& w : elements->warnings()) std::cerr << "warning: " << w << "\n";
     if (s.gather != "none" && !g_interrupted.load()) {
         // The elements are what the file shows: gather from them, with visibility among them.
         const auto element_visibility = make_visibility(o.visibility, elements->patches());
@@ -306,6 +313,12 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->add_option("--link-epsilon", solve->hierarchical.link_epsilon,
                      "hierarchical: link error bound, a share of what the link brings (0.1)")
         ->check(kPositive);
+    solve_cmd
+        ->add_option("--power-epsilon", solve->hierarchical.power_epsilon,
+                     "hierarchical: also link when the power a link could misplace is below this share of the "
+                     "scene's power (BF refinement; 0: off)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     solve_cmd->add_flag("--no-clustering", solve->no_clustering,
                         "hierarchical: start from every pair of input patches, not from one cluster hierarchy "
                         "(Smits, Arvo and Greenberg 1994), to compare");

@@ -8,6 +8,8 @@
 #include <optional>
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "mesh/polygon.h"
 #include "mesh/surface_tree.h"
@@ -177,7 +179,12 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
         return true;
     };
 
-    for (std::size_t s = 0; s < n; ++s) {
+    // Surfaces are independent (the tree is only read): in parallel, each into its own list,
+    // joined in surface order so the cuts do not depend on the thread count.
+    std::vector<std::vector<CoveredRegion>> found(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& range) {
+    for (std::size_t s = range.begin(); s != range.end(); ++s) {
+        std::vector<CoveredRegion>& out = found[s];
         const SurfaceFrame& S = frame[s];
         if (!(S.area > 0)) continue;
         const auto& spoly = scene.surfaces[s].vertices;
@@ -288,6 +295,8 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
             }
         }
     }
+    });
+    for (auto& f : found) out.insert(out.end(), std::make_move_iterator(f.begin()), std::make_move_iterator(f.end()));
     return out;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <unordered_map>
 
 #include <OpenMesh/Core/System/omstream.hh>
 #include <glm/geometric.hpp>
@@ -17,6 +18,110 @@ namespace bounce {
 namespace {
 
 using V = glm::dvec3;
+
+/// OpenMesh prints its refusals on its own error stream; the meshers count them and warn once.
+struct QuietOpenMesh {
+    bool was = omerr().is_enabled();
+    QuietOpenMesh() { omerr().disable(); }
+    ~QuietOpenMesh() {
+        if (was) omerr().enable();
+    }
+    QuietOpenMesh(const QuietOpenMesh&) = delete;
+    QuietOpenMesh& operator=(const QuietOpenMesh&) = delete;
+};
+
+/// Faces over shared points, made manifold before OpenMesh sees them: a point where the faces
+/// around it do not form one fan (elements of contact-cut pieces meeting at a corner, or an
+/// edge that three faces share or two run the same way) gets a copy per fan. OpenMesh refuses
+/// some such faces and aborts on others (an assertion in its patch re-linking), so they are
+/// never offered. A fan is the faces around the point joined through edges that exactly two
+/// faces share in opposite directions (union-find over the faces' corners).
+struct ManifoldFaces {
+    std::vector<std::vector<std::uint32_t>> faces;  // into the point list below
+    std::vector<std::uint32_t> point_of;            // for each point: the input point it copies
+    std::size_t split_points = 0;                   // input points given more than one copy
+};
+
+ManifoldFaces manifold_faces(std::size_t point_count, const std::vector<std::vector<std::uint32_t>>& faces) {
+    std::vector<std::size_t> first(faces.size() + 1, 0);  // corner index of face f's corner 0
+    for (std::size_t f = 0; f < faces.size(); ++f) first[f + 1] = first[f] + faces[f].size();
+    std::vector<std::size_t> root(first.back());
+    for (std::size_t c = 0; c < root.size(); ++c) root[c] = c;
+    auto find = [&](std::size_t c) {
+        while (root[c] != c) c = root[c] = root[root[c]];
+        return c;
+    };
+    auto join = [&](std::size_t a, std::size_t b) { root[find(a)] = find(b); };
+    struct Side {
+        std::uint64_t key;  // the edge's points, smaller first
+        std::size_t corner;  // the corner the side leaves from
+        bool forward;       // runs from the smaller point to the larger
+    };
+    // A face that names a point twice (corners of a sliver welded together) takes copies of
+    // all its points: it joins nothing.
+    std::vector<bool> alone(faces.size(), false);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+        std::vector<std::uint32_t> ids = faces[f];
+        std::sort(ids.begin(), ids.end());
+        alone[f] = std::adjacent_find(ids.begin(), ids.end()) != ids.end();
+    }
+    std::vector<Side> sides;
+    sides.reserve(root.size());
+    for (std::size_t f = 0; f < faces.size(); ++f)
+        for (std::size_t k = 0; k < faces[f].size() && !alone[f]; ++k) {
+            const std::uint32_t u = faces[f][k], w = faces[f][(k + 1) % faces[f].size()];
+            sides.push_back({std::uint64_t(std::min(u, w)) << 32 | std::max(u, w), first[f] + k, u < w});
+        }
+    std::sort(sides.begin(), sides.end(), [](const Side& a, const Side& b) {
+        return a.key != b.key ? a.key < b.key : a.corner < b.corner;
+    });
+    auto next_corner = [&](std::size_t c) {  // the corner after c in its face
+        const std::size_t f = std::size_t(std::upper_bound(first.begin(), first.end(), c) - first.begin()) - 1;
+        return c + 1 < first[f + 1] ? c + 1 : first[f];
+    };
+    for (std::size_t i = 0; i < sides.size();) {
+        std::size_t j = i;
+        while (j < sides.size() && sides[j].key == sides[i].key) ++j;
+        if (j - i == 2 && sides[i].forward != sides[i + 1].forward) {
+            // Side c: p -> q in one face, side d: q -> p in the other; join their corners at p and at q.
+            const std::size_t c = sides[i].corner, d = sides[i + 1].corner;
+            join(c, next_corner(d));
+            join(next_corner(c), d);
+        }
+        i = j;
+    }
+    ManifoldFaces out;
+    out.point_of.resize(point_count);
+    for (std::size_t v = 0; v < point_count; ++v) out.point_of[v] = std::uint32_t(v);
+    std::vector<std::size_t> owner(point_count, SIZE_MAX);  // the fan root that keeps the point itself
+    std::unordered_map<std::size_t, std::uint32_t> copy_of;  // fan root -> its copy of the point
+    out.faces.resize(faces.size());
+    std::vector<bool> counted(point_count, false);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+        for (std::size_t k = 0; k < faces[f].size(); ++k) {
+            const std::uint32_t v = faces[f][k];
+            const std::size_t r = find(first[f] + k);
+            std::uint32_t id = v;
+            if (alone[f]) {
+                id = std::uint32_t(out.point_of.size());
+                out.point_of.push_back(v);
+                if (!counted[v]) ++out.split_points;
+                counted[v] = true;
+            } else if (owner[v] == SIZE_MAX) {
+                owner[v] = r;
+            } else if (owner[v] != r) {
+                const auto [it, made] = copy_of.try_emplace(r, std::uint32_t(out.point_of.size()));
+                if (made) {
+                    out.point_of.push_back(v);
+                    if (!counted[v]) ++out.split_points;
+                    counted[v] = true;
+                }
+                id = it->second;
+            }
+            out.faces[f].push_back(id);
+        }
+    return out;
+}
 
 bool convex_quad(std::span<const V> q) {
     const V n = newell_normal(q);
@@ -145,13 +250,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     std::size_t apart = 0;     // faces OpenMesh would not join to their neighbours
     int first_apart = -1;
     // OpenMesh prints its refusals on its own error stream; they are counted and reported below.
-    struct QuietOpenMesh {
-        bool was = omerr().is_enabled();
-        QuietOpenMesh() { omerr().disable(); }
-        ~QuietOpenMesh() {
-            if (was) omerr().enable();
-        }
-    } quiet;
+    const QuietOpenMesh quiet;
     auto emit_face = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
         const auto& surface = scene.surfaces[si];
         const auto& mat = scene.materials[surface.material];
@@ -437,23 +536,44 @@ PatchMesh::PatchMesh(std::vector<Patch> patches, const std::vector<glm::dvec3>& 
     if (faces.size() != m_patches.size()) throw std::invalid_argument("patch mesh: one face per patch");
     auto face_surface = OpenMesh::FPropHandleT<int>();
     m_mesh.add_property(face_surface, "f:surface");
+    const QuietOpenMesh quiet;
+    for (const auto& f : faces)
+        for (const std::uint32_t q : f)
+            if (q >= points.size()) throw std::invalid_argument("patch mesh: face point out of range");
+    const ManifoldFaces manifold = manifold_faces(points.size(), faces);
+    std::size_t apart = 0, first_apart = 0;  // elements OpenMesh still would not join (none expected)
     std::vector<OpenPatchMesh::VertexHandle> vh;
-    vh.reserve(points.size());
-    for (const auto& p : points) vh.push_back(m_mesh.add_vertex(OpenPatchMesh::Point(p.x, p.y, p.z)));
+    vh.reserve(manifold.point_of.size());
+    for (const std::uint32_t q : manifold.point_of)
+        vh.push_back(m_mesh.add_vertex(OpenPatchMesh::Point(points[q].x, points[q].y, points[q].z)));
     m_parent.resize(m_patches.size());
     for (std::size_t i = 0; i < faces.size(); ++i) {
         std::vector<OpenPatchMesh::VertexHandle> f;
-        for (const std::uint32_t q : faces[i]) {
-            if (q >= vh.size()) throw std::invalid_argument("patch mesh: face point out of range");
-            f.push_back(vh[q]);
+        for (const std::uint32_t q : manifold.faces[i]) f.push_back(vh[q]);
+        auto face = m_mesh.add_face(f);
+        if (!face.is_valid()) {
+            std::vector<OpenPatchMesh::VertexHandle> own;
+            for (const auto& h : f) own.push_back(m_mesh.add_vertex(m_mesh.point(h)));
+            face = m_mesh.add_face(own);
+            if (!face.is_valid())
+                throw std::runtime_error("patch mesh: OpenMesh refused element face " + std::to_string(i) + " (" +
+                                         m_patches[i].to_string() + ")");
+            if (apart++ == 0) first_apart = i;
         }
-        const auto face = m_mesh.add_face(f);
-        if (!face.is_valid())
-            throw std::runtime_error("patch mesh: OpenMesh refused element face " + std::to_string(i) + " (" +
-                                     m_patches[i].to_string() + ")");
         m_mesh.property(face_surface, face) = m_patches[i].surface;
         m_parent[i] = std::uint32_t(i);
     }
+    if (manifold.split_points > 0)
+        m_warnings.push_back("meshing: " + std::to_string(manifold.split_points) + " element corner" +
+                             (manifold.split_points == 1 ? "" : "s") +
+                             " where the elements around do not form one fan (contact-cut pieces meeting at a "
+                             "point, or an edge of three elements) get a copy per fan: the exported mesh has a "
+                             "seam there");
+    if (apart > 0)
+        m_warnings.push_back("meshing: " + std::to_string(apart) + " element" + (apart == 1 ? "" : "s") +
+                             " (the first " + m_patches[first_apart].to_string() +
+                             ") would not join the neighbouring elements' edges (OpenMesh): the exported mesh has "
+                             "a seam there");
 }
 
 std::vector<int> PatchMesh::patch_vertex_indices(std::size_t p) const {

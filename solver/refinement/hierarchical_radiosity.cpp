@@ -2,12 +2,15 @@
 #include "solver/refinement/hierarchical_radiosity.h"
 
 #include <algorithm>
+#include <atomic>
+
 #include <chrono>
 #include <cmath>
 #include <numbers>
 #include <optional>
 #include <span>
 #include <stdexcept>
+#include <string>
 
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
@@ -76,13 +79,18 @@ End end_of(const ElementTree& tree, const ClusterTree& clusters, std::uint32_t r
 /// A_a F_ab for a link with a cluster, unoccluded: both ends shrunk to points at their
 /// centres, each showing the other the area its members turn towards it (Sillion 1995's
 /// isotropic cluster with the members' orientation kept, as Smits et al. 1994 do), capped so
-/// that neither F exceeds 1.
+/// that neither F exceeds 1. Ends whose bounding spheres meet (faint links the power bound
+/// accepts) have no point-to-point kernel: it is softened there as Wallace, Elmquist and
+/// Haines (1989) soften the point-to-disc factor, pi r^2 + A for pi r^2, so they do not send
+/// each other all they have (with the cap alone the 100k office's gather did not settle).
 double cluster_transfer(const End& a, const End& b) {
     const glm::dvec3 v = b.centre - a.centre;
     const double r2 = glm::dot(v, v);
     if (!(r2 > 0)) return 0.0;
     const glm::dvec3 d = v / std::sqrt(r2);
-    return std::min({a.shown(d) * b.shown(-d) / (std::numbers::pi * r2), a.area, b.area});
+    const bool touching = std::sqrt(r2) <= a.radius + b.radius;
+    const double soft = touching ? std::max(a.area, b.area) : 0.0;
+    return std::min({a.shown(d) * b.shown(-d) / (std::numbers::pi * r2 + soft), a.area, b.area});
 }
 
 /// Fraction of the rays between the ends' sample points (member centroids, up to 4 each)
@@ -162,11 +170,39 @@ Spread point_factor_spread(const Patch& a, const Patch& b) {
     return {sum / (a.vertex_count + 2), hi - lo};
 }
 
+/// How what travels along unit u meets a cluster's members, per axis bin (+x +y +z -x -y -z):
+/// a member turned along axis k faces u by |u_k| when the signs agree, so bin k takes the
+/// share |u_k| axis_area_k of the area the cluster shows along u (exact for members whose
+/// normals lie along the axes, as in rooms of furniture; the "ambient cube" of irradiance
+/// volumes). Power arriving along -u splits over the bins by these shares, so each member of a
+/// bin gets the same irradiance per unit of projected area; the radiosity sent along u is the
+/// bins' mean under the same shares. `none` when no member faces u.
+struct AxisWeights {
+    std::array<std::uint8_t, 3> bin{};
+    std::array<double, 3> w{};
+    bool none = true;
+    AxisWeights(const glm::dvec3& u, const std::array<double, 6>& axis_area) {
+        double sum = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            bin[std::size_t(k)] = std::uint8_t(u[k] >= 0 ? k : k + 3);
+            w[std::size_t(k)] = std::abs(u[k]) * axis_area[bin[std::size_t(k)]];
+            sum += w[std::size_t(k)];
+        }
+        if (!(sum > 0)) return;
+        none = false;
+        for (double& x : w) x /= sum;
+    }
+    Rgb mix(const Rgb* bins) const { return bins[bin[0]] * w[0] + bins[bin[1]] * w[1] + bins[bin[2]] * w[2]; }
+    void add(Rgb* bins, const Rgb& v) const {
+        for (int k = 0; k < 3; ++k) bins[bin[std::size_t(k)]] += v * w[std::size_t(k)];
+    }
+};
+
 /// Gather and push-pull until the leaves settle (Jacobi over the hierarchy); B and H hold a
 /// value per tree node, Bc a value per cluster (clusters may be null: no clustering).
 void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std::vector<Link>& links,
-                 const HierarchicalOptions& options, std::vector<Rgb>& B, std::vector<Rgb>& Bc, std::vector<Rgb>& H,
-                 SolveResult& res) {
+                 const HierarchicalOptions& options, const std::string& stage, std::vector<Rgb>& B,
+                 std::vector<Rgb>& Bc, std::vector<Rgb>& H, SolveResult& res) {
     const auto& G = tree.geometry();
     const std::size_t n = tree.size();
     const std::size_t nc = clusters ? clusters->clusters().size() : 0;
@@ -193,6 +229,24 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
         if (clusters && clusters->patch_parent(i) >= 0) return n + std::size_t(clusters->patch_parent(i));
         return SIZE_MAX;
     };
+    // Oriented clusters: per cluster and axis direction (+x +y +z -x -y -z), the radiosity of
+    // the members turned that way and the power arriving from that way.
+    const bool oriented = options.oriented_clusters && nc > 0;
+    std::vector<Rgb> bin_b(oriented ? 6 * nc : 0), next_bin_b(bin_b.size()), bin_power(bin_b.size());
+    std::vector<Rgb> from_cluster(oriented ? n : 0);  // irradiance a patch gets from its cluster
+    static constexpr std::array<double, 6> kNone{};
+    const std::vector<ClusterTree::Cluster> no_clusters;
+    const auto& C = clusters ? clusters->clusters() : no_clusters;
+    auto centre = [&](std::size_t s) { return s >= n ? clusters->clusters()[s - n].centre : G[s].centre; };
+    auto area_of = [&](std::size_t s) { return s >= n ? clusters->clusters()[s - n].area : G[s].area; };
+    auto axis_area_of = [&](std::uint32_t ref, int x) {
+        if (ClusterTree::is_cluster(ref)) return clusters->cluster(ref).axis_area[std::size_t(x)];
+        const double c = G[ref].normal[x % 3];
+        return G[ref].area * std::max(0.0, x < 3 ? c : -c);
+    };
+    if (oriented)
+        for (std::size_t c = 0; c < nc; ++c)
+            for (int x = 0; x < 6; ++x) bin_b[6 * c + std::size_t(x)] = b[n + c];  // until the first pull
     res.status = "max iterations";
     res.converged = false;
     for (std::size_t it = 0; it < options.max_iterations; ++it) {
@@ -200,27 +254,79 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
             res.status = "interrupted";
             break;
         }
-        // Gather: every element or cluster collects F B over its links, both ways round.
+        // Gather: every element or cluster collects F B over its links, both ways round. A
+        // cluster end sends the radiosity of its members facing the other end and hands what it
+        // gathers to the members facing the other end (oriented clusters, below).
         std::fill(gathered.begin(), gathered.end(), Rgb());
+        if (oriented) std::fill(bin_power.begin(), bin_power.end(), Rgb());
         for (std::size_t k = 0; k < links.size(); ++k) {
             const Link& l = links[k];
             if (l.fab == 0.0f) continue;
             const std::size_t sa = slot(l.a), sb = slot(l.b);
-            gathered[sa] += b[sb] * double(l.fab);
-            gathered[sb] += b[sa] * fba[k];
+            const bool ca = sa >= n, cb = sb >= n;
+            const glm::dvec3 v = centre(sb) - centre(sa);  // from a towards b
+            const double length = glm::length(v);
+            if (!oriented || (!ca && !cb) || !(length > 0)) {
+                gathered[sa] += b[sb] * double(l.fab);
+                gathered[sb] += b[sa] * fba[k];
+                continue;
+            }
+            const glm::dvec3 u = v / length;
+            // a's members facing b (along u) and b's facing a (along -u).
+            const AxisWeights wa = ca ? AxisWeights(u, C[sa - n].axis_area) : AxisWeights(u, kNone);
+            const AxisWeights wb = cb ? AxisWeights(-u, C[sb - n].axis_area) : AxisWeights(u, kNone);
+            const Rgb from_b = wb.none ? b[sb] : wb.mix(&bin_b[6 * (sb - n)]);
+            const Rgb from_a = wa.none ? b[sa] : wa.mix(&bin_b[6 * (sa - n)]);
+            if (wa.none)
+                gathered[sa] += from_b * double(l.fab);
+            else
+                wa.add(&bin_power[6 * (sa - n)], from_b * (double(l.fab) * area_of(sa)));
+            if (wb.none)
+                gathered[sb] += from_a * fba[k];
+            else
+                wb.add(&bin_power[6 * (sb - n)], from_a * (fba[k] * area_of(sb)));
         }
-        // Push: what a cluster or element gathered reaches every member and leaf below it
-        // alike (irradiance per unit area, so the power is the gathered power).
+        // Push: what a cluster or element gathered reaches the members and leaves below it.
+        // Isotropic clusters hand every member the same irradiance; oriented ones hand the
+        // power that came from each axis direction to the members facing it, in proportion to
+        // the area they turn that way (the members' axis areas, cluster_tree.h), so a desk's
+        // top and underside no longer share alike. Either way the power is the gathered power.
+        std::fill(from_cluster.begin(), from_cluster.end(), Rgb());
         for (std::size_t c = 0; c < nc; ++c) {
-            const auto parent = clusters->clusters()[c].parent;
+            const auto& k = clusters->clusters()[c];
+            const auto parent = k.parent;
             h[n + c] = gathered[n + c] + (parent >= 0 ? h[n + std::size_t(parent)] : Rgb());
+            if (!oriented) continue;
+            Rgb* power = &bin_power[6 * c];  // own, plus what the parent handed down (added below)
+            std::array<double, 6> sa{}, sb{};
+            for (int x = 0; x < 6; ++x) {
+                sa[std::size_t(x)] = axis_area_of(k.child[0], x);
+                sb[std::size_t(x)] = axis_area_of(k.child[1], x);
+            }
+            const double aa = area(k.child[0]), ab = area(k.child[1]);
+            for (int side = 0; side < 2; ++side) {
+                const std::uint32_t child = k.child[std::size_t(side)];
+                for (int x = 0; x < 6; ++x) {
+                    const double total_x = sa[std::size_t(x)] + sb[std::size_t(x)];
+                    const double share =
+                        total_x > 0 ? (side ? sb : sa)[std::size_t(x)] / total_x : (side ? ab : aa) / (aa + ab);
+                    const Rgb part = power[x] * share;
+                    if (ClusterTree::is_cluster(child))
+                        bin_power[6 * ClusterTree::index(child) + std::size_t(x)] += part;
+                    else
+                        from_cluster[child] += part * (1.0 / G[child].area);
+                }
+            }
         }
         for (const std::uint32_t i : order) {
             const std::size_t up = above(i);
-            h[i] = gathered[i] + (up != SIZE_MAX ? h[up] : Rgb());
+            // (Links an oriented cluster could not orient, ends at one point, went in alike.)
+            h[i] = gathered[i] + (up != SIZE_MAX ? h[up] : Rgb()) +
+                   (oriented && up >= n && up != SIZE_MAX ? from_cluster[i] : Rgb());
         }
         // Pull: leaves reflect; a parent's radiosity is its children's area-weighted mean
-        // (a cluster sends the power its members emit).
+        // (a cluster sends the power its members emit); an oriented cluster also keeps, per
+        // axis direction, the mean over the area its members turn that way.
         for (std::size_t k = order.size(); k-- > 0;) {
             const std::uint32_t i = order[k];
             const auto& node = tree.node(i);
@@ -239,7 +345,21 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
             const auto& k = clusters->clusters()[c];
             next[n + c] = (next[slot(k.child[0])] * area(k.child[0]) + next[slot(k.child[1])] * area(k.child[1])) *
                           (1.0 / k.area);
+            if (!oriented) continue;
+            for (int x = 0; x < 6; ++x) {
+                Rgb sum;
+                double weight = 0.0;
+                for (const std::uint32_t child : k.child) {
+                    const double w = axis_area_of(child, x);
+                    sum += (ClusterTree::is_cluster(child) ? next_bin_b[6 * ClusterTree::index(child) + std::size_t(x)]
+                                                           : next[child]) *
+                           w;
+                    weight += w;
+                }
+                next_bin_b[6 * c + std::size_t(x)] = weight > 0 ? sum * (1.0 / weight) : next[n + c];
+            }
         }
+        bin_b.swap(next_bin_b);
         double change = 0.0, mean = 0.0, total = 0.0;
         for (std::uint32_t r = 0; r < tree.root_count(); ++r) {
             mean += next[r].luminance() * G[r].area;
@@ -250,6 +370,7 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
             if (tree.node(i).leaf()) change = std::max(change, std::abs(next[i].luminance() - b[i].luminance()));
         b.swap(next);
         res.steps += 1;
+        if (options.progress) options.progress(stage + ": gather iterations", it + 1, options.max_iterations);
         if (change <= options.tolerance * std::max(mean, 1e-300)) {
             res.converged = true;
             res.status = "converged";
@@ -279,14 +400,15 @@ void finish_result(const ElementTree& tree, const std::vector<Rgb>& B, const std
 class Refiner {
 public:
     Refiner(ElementTree& tree, const ClusterTree* clusters, const HierarchicalOptions& o, std::vector<double> min_area,
-            std::vector<Rgb>& radiosity, const std::vector<Rgb>& cluster_radiosity, double scale)
+            std::vector<Rgb>& radiosity, const std::vector<Rgb>& cluster_radiosity, double scale, double power)
         : m_tree(tree),
           m_clusters(clusters),
           m_options(o),
           m_min_area(std::move(min_area)),
           m_b(radiosity),
           m_cb(cluster_radiosity),
-          m_scale(scale) {}
+          m_scale(scale),
+          m_power_budget(o.power_epsilon * power) {}
 
     /// Refines a pair of which either end may be a cluster (ClusterTree refs); pairs of
     /// elements go to refine(). A link with a cluster hands every member the same
@@ -314,16 +436,25 @@ public:
         const End ea = end_of(m_tree, *m_clusters, a), eb = end_of(m_tree, *m_clusters, b);
         if ((ea.element && eb.behind(*ea.element)) || (eb.element && ea.behind(*eb.element))) return;
         const double gap = glm::length(eb.centre - ea.centre) - ea.radius - eb.radius;
+        const double la = luminance(a), lb = luminance(b);
         if (gap > 0) {
             const double k = cluster_transfer(ea, eb);  // A_a F_ab
-            const double la = luminance(a), lb = luminance(b), floor = m_options.cluster_floor * m_scale;
+            const double floor = m_options.cluster_floor * m_scale;
             const double eps = m_options.link_epsilon;
             const double bound_a = std::min(1.0, eb.area / (std::numbers::pi * gap * gap)) * lb;
             const double bound_b = std::min(1.0, ea.area / (std::numbers::pi * gap * gap)) * la;
-            if (bound_a <= eps * (k / ea.area * lb + floor) && bound_b <= eps * (k / eb.area * la + floor)) {
+            const bool relative =
+                bound_a <= eps * (k / ea.area * lb + floor) && bound_b <= eps * (k / eb.area * la + floor);
+            if (relative || (m_power_budget > 0 && std::min(bound_a * ea.area, lb * eb.area) <= m_power_budget &&
+                             std::min(bound_b * eb.area, la * ea.area) <= m_power_budget)) {
                 links.push_back({a, b});
                 return;
             }
+        } else if (m_power_budget > 0 && std::min(ea.area, eb.area) * std::max(la, lb) <= m_power_budget) {
+            // Touching or overlapping ends: no point-to-point bound, but neither can send the
+            // other more than B min(A_a, A_b) (F <= 1 both ways), and that is faint.
+            links.push_back({a, b});
+            return;
         }
         // Split the larger of two clusters; an element meeting a cluster waits while the
         // cluster is split, so two patches always meet as a pair and the element oracle alone
@@ -347,8 +478,11 @@ public:
         const Spread ab = point_factor_spread(G[a], G[b]), ba = point_factor_spread(G[b], G[a]);
         const double lb = m_b[b].luminance(), la = m_b[a].luminance();
         const double eps = m_options.link_epsilon, floor = m_options.link_floor * m_scale;
-        const bool fine =
+        const bool relative =
             ab.spread * lb <= eps * (ab.mean * lb + floor) && ba.spread * la <= eps * (ba.mean * la + floor);
+        const bool faint = m_power_budget > 0 && ab.spread * lb * G[a].area <= m_power_budget &&
+                           ba.spread * la * G[b].area <= m_power_budget;
+        const bool fine = relative || faint;
         const bool split_a = splittable(a), split_b = splittable(b);
         if (fine || (!split_a && !split_b)) {
             links.push_back({a, b});
@@ -389,6 +523,7 @@ private:
     std::vector<Rgb>& m_b;
     const std::vector<Rgb>& m_cb;
     double m_scale;
+    double m_power_budget;  // power_epsilon of the scene's power: a link misplacing less is fine
 };
 
 }  // namespace
@@ -452,13 +587,21 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     const ClusterTree* cluster_tree = clusters ? &*clusters : nullptr;
     std::vector<Link> links;
     std::vector<Rgb> H;
+    // Multigridding (Hanrahan et al. 1991, section 5): a later round keeps the form factor of
+    // every link the last round had, computed once; only new links cast rays. Keyed by both
+    // ends, sorted for binary search (refs are stable: the tree only grows).
+    std::vector<std::pair<std::uint64_t, float>> known;
+    auto key = [](const Link& l) { return std::uint64_t(l.a) << 32 | l.b; };
     for (int round = 0; round < options.refine_rounds; ++round) {
         const double round_start = since_start();
+        const std::string stage = "round " + std::to_string(round + 1) + "/" + std::to_string(options.refine_rounds);
         double scale = 0.0;
         for (std::uint32_t r = 0; r < patches.size(); ++r) scale += B[r].luminance() * patches[r].area;
+        const double power = scale;
         scale /= total_area;
         {
-            Refiner refiner(tree, cluster_tree, options, min_area, B, Bc, scale);
+            if (options.progress) options.progress(stage + ": refining links", 0, 1);
+            Refiner refiner(tree, cluster_tree, options, min_area, B, Bc, scale, power);
             if (cluster_tree) {
                 refiner.refine_any(cluster_tree->root(), cluster_tree->root());
             } else {
@@ -468,9 +611,16 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
             links = std::move(refiner.links);
         }
         // Link form factors with visibility, in parallel (the tree does not change here).
+        std::atomic<std::size_t> done{0}, reused{0};
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, links.size(), 256), [&](const auto& r) {
             for (std::size_t k = r.begin(); k != r.end(); ++k) {
                 const Link& l = links[k];
+                const auto it = std::lower_bound(known.begin(), known.end(), std::pair(key(l), -1.0f));
+                if (it != known.end() && it->first == key(l)) {
+                    links[k].fab = it->second;
+                    reused.fetch_add(1, std::memory_order_relaxed);
+                    continue;
+                }
                 if (!ClusterTree::is_cluster(l.a) && !ClusterTree::is_cluster(l.b)) {
                     links[k].fab = float(ff.pair(l.a, l.b));
                     continue;
@@ -480,9 +630,17 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
                 if (t > 0 && options.cluster_visibility) t *= cluster_visible_fraction(ea, eb, visibility);
                 links[k].fab = float(t / ea.area);
             }
+            const std::size_t now = done.fetch_add(r.size(), std::memory_order_relaxed) + r.size();
+            if (options.progress) options.progress(stage + ": link form factors", now, links.size());
         });
+        out.reused_links += reused.load();
+        if (round + 1 < options.refine_rounds) {
+            known.resize(links.size());
+            for (std::size_t k = 0; k < links.size(); ++k) known[k] = {key(links[k]), links[k].fab};
+            std::sort(known.begin(), known.end());
+        }
         out.refine_seconds += since_start() - round_start;
-        solve_links(tree, cluster_tree, links, options, B, Bc, H, res);
+        solve_links(tree, cluster_tree, links, options, stage, B, Bc, H, res);
         if (res.status == "interrupted") break;
     }
     for (const Link& l : links) out.cluster_links += ClusterTree::is_cluster(l.a) || ClusterTree::is_cluster(l.b);

@@ -3,6 +3,8 @@
 
 #include <atomic>
 #include <cstddef>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "mesh/element_tree.h"
@@ -22,11 +24,20 @@ struct HierarchicalOptions {
     int max_level = 4;               // quadtree depth under each patch, or under the base where that is larger
     bool clustering = true;          // start from the root cluster's self-link, not from every pair of patches
     double cluster_floor = 0.1;      // a cluster link's error floor, a share of the scene's mean radiosity
+    /// BF refinement on power (Hanrahan et al. 1991, section 4): a link is also accepted when
+    /// the power it could misplace, its radiosity error bound times the receiver's area, is
+    /// below this share of the scene's power (sum B A), both ways round; 0: off. Small
+    /// elements and faint corners stop refining whatever their relative error.
+    double power_epsilon = 0.0;
     bool cluster_visibility = true;  // cluster links: visible fraction of rays between member centroids
+    bool oriented_clusters = true;   // a cluster sends and receives per axis direction, not alike to all members
     double tolerance = 1e-6;         // stop when no element's radiosity changes by more than this, relatively
     std::size_t max_iterations = 1000;
     FormFactorOptions form_factors;
     const std::atomic<bool>* cancel = nullptr;
+    /// Called with a stage ("round 2/3: link form factors"), items done and their total;
+    /// from worker threads too.
+    std::function<void(const std::string& stage, std::size_t done, std::size_t total)> progress;
 };
 
 struct HierarchicalSolution {
@@ -38,6 +49,7 @@ struct HierarchicalSolution {
     std::size_t clusters = 0;           // clusters above the patches (0 without clustering)
     std::size_t initial_links = 0;      // pairs refinement starts from: 1, or N (N - 1) / 2 without clustering
     double refine_seconds = 0.0;        // building the links (form factors included), all rounds
+    std::size_t reused_links = 0;       // links whose form factor an earlier round had computed
 };
 
 /// Hierarchical radiosity (Hanrahan, Salzman and Aupperle 1991) with BF refinement. Each pair

@@ -147,3 +147,45 @@ TEST(PatchMesh, TriangleMeshesGetThePatchBudgetTheyAskFor) {
         }
     }
 }
+
+TEST(PatchMesh, ElementsThatDoNotFormOneFanGetPointsOfTheirOwnWithOneWarning) {
+    // Three triangles on one edge (0-1) make it non-manifold; a fourth meets the first only at
+    // point 2 (a bow tie). OpenMesh refuses the first case ("complex edge") and, in the 10k
+    // office's contact-cut elements, aborted on an assertion in its patch re-linking; the mesh
+    // gives each fan around such a point a copy of it instead. Point 0 and point 1 each lie in
+    // three fans (2 copies each), point 2 in two (1 copy): 7 + 5 points.
+    const std::vector<glm::dvec3> points = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1},
+                                            {1, 2, 0}, {0, 2, 0}};
+    const std::vector<std::vector<std::uint32_t>> faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}, {2, 5, 6}};
+    std::vector<Patch> patches;
+    for (const auto& f : faces) {
+        Patch p;
+        p.vertex_count = 3;
+        for (int k = 0; k < 3; ++k) p.vertices[k] = points[f[std::size_t(k)]];
+        const glm::dvec3 n = newell_normal(p.polygon());
+        p.area = 0.5 * glm::length(n);
+        p.normal = n / (2.0 * p.area);
+        p.centre = polygon_centroid(p.polygon());
+        p.surface = int(patches.size());
+        patches.push_back(p);
+    }
+    const PatchMesh mesh(patches, points, faces);
+    ASSERT_EQ(mesh.size(), 4u);
+    ASSERT_EQ(mesh.warnings().size(), 1u);
+    EXPECT_NE(mesh.warnings()[0].find("3 element corners"), std::string::npos) << mesh.warnings()[0];
+    EXPECT_EQ(mesh.mesh().n_vertices(), 12u);
+    EXPECT_EQ(mesh.mesh().n_faces(), 4u);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+        const auto corners = mesh.patch_vertex_indices(f);
+        ASSERT_EQ(corners.size(), 3u);
+        for (const int v : corners) {
+            const auto q = mesh.mesh().point(OpenMesh::VertexHandle(v));
+            const glm::dvec3 x(q[0], q[1], q[2]);
+            EXPECT_TRUE(x == points[faces[f][0]] || x == points[faces[f][1]] || x == points[faces[f][2]]) << f;
+        }
+    }
+    // A manifold mesh is left whole: two triangles on one edge share its two points.
+    const PatchMesh pair({patches[0], patches[1]}, points, {faces[0], faces[1]});
+    EXPECT_TRUE(pair.warnings().empty());
+    EXPECT_EQ(pair.mesh().n_vertices(), 7u);
+}
