@@ -20,6 +20,7 @@
 #include "mesh/scene_loader.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/shooting_solver.h"
+#include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
 #include "test_util.h"
 
@@ -234,4 +235,37 @@ TEST(Office, ClosedOfficeConservesEnergy) {
     std::printf("closed office: %zu patches, %zu shots, unshot %.3g, %.1f s, escaped/emitted %.3g %.3g %.3g\n",
                 mesh.size(), r.steps, r.unshot_fraction, secs, r.escaped_power[0] / r.emitted_power[0],
                 r.escaped_power[1] / r.emitted_power[1], r.escaped_power[2] / r.emitted_power[2]);
+}
+
+TEST(Office, HierarchicalLinksGrowSubLinearlyWithTriangles) {
+    // Issue 17's link exponent on three offices (the full runs are 10k, 100k and 1M: 0.70,
+    // 1.82 and 6.78 million links, N^0.49): hierarchical radiosity with clustering and BF
+    // refinement on power, one element per patch as `bounce solve --solver hierarchical
+    // --max-level 0 --no-subdivide --power-epsilon 1e-4` runs it.
+    std::vector<double> n, links;
+    for (const long triangles : {2000L, 6000L, 18000L}) {
+        TempDir tmp;
+        const auto path = tmp / "office.obj";
+        ASSERT_EQ(run(office(path, triangles)).exit_code, 0);
+        MeshingOptions mo;
+        mo.subdivide = false;
+        const PatchMesh mesh(load_scene(path.string()), mo);
+        const auto vis = make_embree_visibility(mesh.patches());
+        HierarchicalOptions h;
+        h.max_level = 0;
+        h.power_epsilon = 1e-4;
+        const HierarchicalSolution s = solve_hierarchical(mesh.patches(), *vis, h);
+        ASSERT_TRUE(s.result.converged) << triangles;
+        // The gather keeps every watt: emitted = absorbed + escaped, to rounding.
+        const Rgb& e = s.result.emitted_power;
+        EXPECT_NEAR((s.result.absorbed_power + s.result.escaped_power).luminance() / e.luminance(), 1.0, 1e-9);
+        std::printf("office %ld triangles: %zu patches, %zu links (%zu with a cluster), escaped %.3f\n", triangles,
+                    mesh.size(), s.links, s.cluster_links, s.result.escaped_power.luminance() / e.luminance());
+        n.push_back(double(triangles));
+        links.push_back(double(s.links));
+    }
+    const double exponent = std::log(links.back() / links.front()) / std::log(n.back() / n.front());
+    std::printf("links ~ N^%.2f\n", exponent);
+    EXPECT_LT(exponent, 1.2);       // the issue's bound
+    EXPECT_GT(links[1], links[0]);  // refinement still follows the scene
 }
