@@ -274,7 +274,10 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
             // is sound, so it goes in on vertices of its own: a seam in the exported mesh there,
             // said in one warning, rather than no mesh at all.
             std::vector<OpenPatchMesh::VertexHandle> own;
-            for (const auto& h : vh) own.push_back(m_mesh.add_vertex(m_mesh.point(h)));
+            for (const auto& h : vh) {
+                const OpenPatchMesh::Point q = m_mesh.point(h);  // a copy: add_vertex may move the points
+                own.push_back(m_mesh.add_vertex(q));
+            }
             f = m_mesh.add_face(own);
             if (!f.is_valid())
                 throw std::runtime_error("patch mesh: OpenMesh refused a face of surface " + surface.where.to_string());
@@ -553,7 +556,10 @@ PatchMesh::PatchMesh(std::vector<Patch> patches, const std::vector<glm::dvec3>& 
         auto face = m_mesh.add_face(f);
         if (!face.is_valid()) {
             std::vector<OpenPatchMesh::VertexHandle> own;
-            for (const auto& h : f) own.push_back(m_mesh.add_vertex(m_mesh.point(h)));
+            for (const auto& h : f) {
+                const OpenPatchMesh::Point q = m_mesh.point(h);  // a copy: add_vertex may move the points
+                own.push_back(m_mesh.add_vertex(q));
+            }
             face = m_mesh.add_face(own);
             if (!face.is_valid())
                 throw std::runtime_error("patch mesh: OpenMesh refused element face " + std::to_string(i) + " (" +
