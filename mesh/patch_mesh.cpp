@@ -123,6 +123,23 @@ ManifoldFaces manifold_faces(std::size_t point_count, const std::vector<std::vec
     return out;
 }
 
+/// Adds a face; when OpenMesh refuses it (a "complex edge": pieces of a contact cut meeting at
+/// a point merged within its tolerance), the face is still sound, so it goes in on vertices of
+/// its own, a seam in the exported mesh that the caller warns of once (`alone` set). Invalid
+/// only when even that is refused.
+OpenPatchMesh::FaceHandle add_face_or_alone(OpenPatchMesh& mesh, const std::vector<OpenPatchMesh::VertexHandle>& vh,
+                                            bool& alone) {
+    const auto f = mesh.add_face(vh);
+    if (f.is_valid()) return f;
+    std::vector<OpenPatchMesh::VertexHandle> own;
+    for (const auto& h : vh) {
+        const OpenPatchMesh::Point q = mesh.point(h);  // a copy: add_vertex may move the points
+        own.push_back(mesh.add_vertex(q));
+    }
+    alone = true;
+    return mesh.add_face(own);
+}
+
 bool convex_quad(std::span<const V> q) {
     const V n = newell_normal(q);
     for (int k = 0; k < 4; ++k)
@@ -267,22 +284,11 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         p.reflectance = mat.reflectance;
         p.emission = mat.emission;
         p.surface = si;
-        auto f = m_mesh.add_face(vh);
-        if (!f.is_valid()) {
-            // OpenMesh refuses a face that would make an edge non-manifold ("complex edge": pieces
-            // of a contact cut meeting at a point merged within its tolerance). The patch itself
-            // is sound, so it goes in on vertices of its own: a seam in the exported mesh there,
-            // said in one warning, rather than no mesh at all.
-            std::vector<OpenPatchMesh::VertexHandle> own;
-            for (const auto& h : vh) {
-                const OpenPatchMesh::Point q = m_mesh.point(h);  // a copy: add_vertex may move the points
-                own.push_back(m_mesh.add_vertex(q));
-            }
-            f = m_mesh.add_face(own);
-            if (!f.is_valid())
-                throw std::runtime_error("patch mesh: OpenMesh refused a face of surface " + surface.where.to_string());
-            if (apart++ == 0) first_apart = si;
-        }
+        bool alone = false;
+        const auto f = add_face_or_alone(m_mesh, vh, alone);
+        if (!f.is_valid())
+            throw std::runtime_error("patch mesh: OpenMesh refused a face of surface " + surface.where.to_string());
+        if (alone && apart++ == 0) first_apart = si;
         m_mesh.property(face_surface, f) = si;
         m_patches.push_back(p);
         m_parent.push_back(parent);
@@ -553,19 +559,12 @@ PatchMesh::PatchMesh(std::vector<Patch> patches, const std::vector<glm::dvec3>& 
     for (std::size_t i = 0; i < faces.size(); ++i) {
         std::vector<OpenPatchMesh::VertexHandle> f;
         for (const std::uint32_t q : manifold.faces[i]) f.push_back(vh[q]);
-        auto face = m_mesh.add_face(f);
-        if (!face.is_valid()) {
-            std::vector<OpenPatchMesh::VertexHandle> own;
-            for (const auto& h : f) {
-                const OpenPatchMesh::Point q = m_mesh.point(h);  // a copy: add_vertex may move the points
-                own.push_back(m_mesh.add_vertex(q));
-            }
-            face = m_mesh.add_face(own);
-            if (!face.is_valid())
-                throw std::runtime_error("patch mesh: OpenMesh refused element face " + std::to_string(i) + " (" +
-                                         m_patches[i].to_string() + ")");
-            if (apart++ == 0) first_apart = i;
-        }
+        bool alone = false;
+        const auto face = add_face_or_alone(m_mesh, f, alone);
+        if (!face.is_valid())
+            throw std::runtime_error("patch mesh: OpenMesh refused element face " + std::to_string(i) + " (" +
+                                     m_patches[i].to_string() + ")");
+        if (alone && apart++ == 0) first_apart = i;
         m_mesh.property(face_surface, face) = m_patches[i].surface;
         m_parent[i] = std::uint32_t(i);
     }

@@ -264,9 +264,10 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
             if (l.fab == 0.0f) continue;
             const std::size_t sa = slot(l.a), sb = slot(l.b);
             const bool ca = sa >= n, cb = sb >= n;
-            const glm::dvec3 v = centre(sb) - centre(sa);  // from a towards b
+            // Only a link with a cluster end needs its direction: element pairs skip the root.
+            const glm::dvec3 v = oriented && (ca || cb) ? centre(sb) - centre(sa) : glm::dvec3(0.0);  // a towards b
             const double length = glm::length(v);
-            if (!oriented || (!ca && !cb) || !(length > 0)) {
+            if (!(length > 0)) {
                 gathered[sa] += b[sb] * double(l.fab);
                 gathered[sb] += b[sa] * fba[k];
                 continue;
