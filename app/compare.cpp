@@ -438,7 +438,7 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
         ->add_option("--power-epsilons", cmp->power_epsilons,
                      "--meshes: hierarchical power epsilons, each run with every link epsilon (0: off)")
         ->delimiter(',')
-        ->check(CLI::NonNegativeNumber)
+        ->check(in_range(0.0, 1.0))
         ->capture_default_str();
     cmp_cmd->add_option("--max-level", cmp->max_level, "--meshes: hierarchical quadtree depth under each coarse patch")
         ->check(in_range(0, 12))

@@ -317,7 +317,7 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->add_option("--power-epsilon", solve->hierarchical.power_epsilon,
                      "hierarchical: also link when the power a link could misplace is below this share of the "
                      "scene's power (BF refinement; 0: off)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(in_range(0.0, 1.0))
         ->capture_default_str();
     solve_cmd->add_flag("--no-clustering", solve->no_clustering,
                         "hierarchical: start from every pair of input patches, not from one cluster hierarchy "

@@ -369,6 +369,8 @@ TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
         {"--max-area 0", "error: --max-area: not a positive number, got '0' (expected > 0)"},
         {"--max-edge -3", "error: --max-edge: not a positive number, got '-3' (expected > 0)"},
         {"--sor 3 --solver gauss-seidel", "error: --sor: out of range, got 3 (expected 0 to 2)"},
+        {"--solver hierarchical --power-epsilon nan", "error: --power-epsilon:"},  // a share of the power
+        {"--solver hierarchical --power-epsilon 2", "error: --power-epsilon: out of range, got 2"},
         {"--max-area 1e-6", "1.93745e+12 patches"},                       // ~10^12 patches
         {"--hemicube-res 1000000 --form-factors hemicube", "--hemicube-res"},
         {"--form-factors hemicube --hemicube-res 4096 --max-memory 100", "hemicube buffers"},
