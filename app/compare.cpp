@@ -25,6 +25,7 @@
 #include "mesh/patch_mesh.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
+#include "solver/gather/hierarchical_point_values.h"
 #include "solver/linear/gathering_solver.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/linear/solver.h"
@@ -109,13 +110,18 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     const std::vector<ReferencePoint> probes = reference_for_compare(scene, c.reference, c.out, o.quiet);
     // Scores a solution as solve would write it: point data gathered (the time added to the
     // row's seconds) when the mesh is within the gather's budget.
-    auto score_mesh = [&](const PatchMesh& m, const std::vector<Rgb>& B, double& seconds, bool& gathered) {
+    // A hierarchical solution gathers through its links (hierarchical_point_values.h).
+    auto score_mesh = [&](const PatchMesh& m, const std::vector<Rgb>& B, double& seconds, bool& gathered,
+                          const HierarchicalSolution* hierarchy) {
         SolveResult r;
         r.radiosity = B;
         gathered = false;
-        if (c.gather != "none" && double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs) {
+        const double pairs =
+            hierarchy ? hierarchical_gather_pairs(*hierarchy, m) : double(m.mesh().n_vertices()) * double(m.size());
+        if (c.gather != "none" && pairs <= kMaxGatherPairs) {
             const auto v = make_visibility(o.visibility, m.patches());
-            gathered = gather_point_values(m, *v, r, "vertices", true);
+            gathered = hierarchy ? gather_point_values(*hierarchy, m, *v, r, "vertices", true)
+                                 : gather_point_values(m, *v, r, "vertices", true);
             seconds += r.seconds;
         }
         return score_at_probes(m, B, probes, r.point_radiosity);
@@ -129,9 +135,9 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     };
     std::vector<Row> rows;
     auto add_row = [&](std::string method, std::string setting, std::size_t links, double seconds, double rms,
-                       const PatchMesh& m, const std::vector<Rgb>& B) {
+                       const PatchMesh& m, const std::vector<Rgb>& B, const HierarchicalSolution* hierarchy = nullptr) {
         Row r{std::move(method), std::move(setting), m.size(), links, seconds, rms, {}, false};
-        r.probe = score_mesh(m, B, r.seconds, r.gathered);
+        r.probe = score_mesh(m, B, r.seconds, r.gathered, hierarchy);
         rows.push_back(std::move(r));
     };
     auto wanted = [&](const char* method) {
@@ -204,7 +210,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
             setting << "link epsilon " << eps;
             if (power_eps > 0) setting << " power epsilon " << power_eps;
             add_row("hierarchical", setting.str(), s.links, seconds_since(t0),
-                    vs_fine(s.tree, s.leaves, s.result.radiosity), elements, s.result.radiosity);
+                    vs_fine(s.tree, s.leaves, s.result.radiosity), elements, s.result.radiosity, &s);
         }
     if (interrupted_exit_code()) return interrupted_exit_code();
     std::ostringstream csv;

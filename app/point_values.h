@@ -8,6 +8,7 @@
 #include "mesh/patch_mesh.h"
 #include "solver/gather/point_values.h"
 #include "solver/linear/solve_result.h"
+#include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
 
 namespace bounce::app {
@@ -17,5 +18,10 @@ namespace bounce::app {
 /// when the mesh has more than kMaxGatherPairs vertex-patch pairs (said on stderr unless quiet).
 bool gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res, const std::string& mode,
                          bool quiet);
+
+/// The same for a hierarchical solution's conforming mesh, gathered through its links
+/// (bounce::gather_hierarchical_point_values).
+bool gather_point_values(const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility,
+                         SolveResult& res, const std::string& mode, bool quiet);
 
 }  // namespace bounce::app

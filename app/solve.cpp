@@ -86,6 +86,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     ProgressLine progress(!o.quiet, "round", "estimate");
     SolveResult res;
     std::optional<PatchMesh> elements;
+    std::optional<HierarchicalSolution> hierarchy;  // kept for the gather through its links
     std::ostringstream settings, summary;
     settings << "patches=" << mesh.size() << " rays=" << with_default_rays(s.ff, kRefinementRays).visibility_rays
              << " seed=" << s.ff.seed;
@@ -97,7 +98,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         h.progress = [&](const std::string& stage, std::size_t done, std::size_t total) {
             progress.items(stage.c_str(), done, total);
         };
-        HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
+        HierarchicalSolution& sol = hierarchy.emplace(solve_hierarchical(mesh.patches(), *visibility, h));
         progress.finish();
         elements.emplace(sol.tree.conforming_mesh(sol.leaves));
         res = std::move(sol.result);
@@ -133,7 +134,10 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     if (s.gather != "none" && !g_interrupted.load()) {
         // The elements are what the file shows: gather from them, with visibility among them.
         const auto element_visibility = make_visibility(o.visibility, elements->patches());
-        gather_point_values(*elements, *element_visibility, res, s.gather, o.quiet);
+        if (hierarchy)
+            gather_point_values(*hierarchy, *elements, *element_visibility, res, s.gather, o.quiet);
+        else
+            gather_point_values(*elements, *element_visibility, res, s.gather, o.quiet);
     }
     if (!interrupted_exit_code()) warn_about_winding(o, scene, elements->patches(), res);
     write_vtu(out, *elements, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.ascii);

@@ -37,6 +37,7 @@
 #include "solver/form_factors/form_factor_check.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
+#include "solver/gather/hierarchical_point_values.h"
 #include "solver/gather/point_values.h"
 #include "solver/linear/solver.h"
 #include "solver/reference/path_tracer.h"
@@ -417,6 +418,7 @@ std::shared_ptr<SolutionData> solve(
             if (elements) {
                 // The scene's patches are the roots: load() chose their size.
                 SolveResult res;
+                std::optional<HierarchicalSolution> hierarchy;  // kept for the gather through its links
                 if (hierarchical) {
                     HierarchicalOptions h;
                     h.link_epsilon = link_epsilon;
@@ -424,7 +426,7 @@ std::shared_ptr<SolutionData> solve(
                     h.clustering = clustering;
                     h.form_factors = f;
                     h.cancel = &job.cancel;
-                    HierarchicalSolution sol = solve_hierarchical(P, *visibility, h);
+                    HierarchicalSolution& sol = hierarchy.emplace(solve_hierarchical(P, *visibility, h));
                     if (job.cancel) return;
                     out->mesh = std::make_shared<const PatchMesh>(sol.tree.conforming_mesh(sol.leaves));
                     res = std::move(sol.result);
@@ -454,10 +456,14 @@ std::shared_ptr<SolutionData> solve(
                 }
                 // The elements are what the solution shows: gather from them, with visibility among them.
                 const auto element_visibility = make_visibility(s->visibility, out->mesh->patches());
-                out->gathered = gather_point_values(*out->mesh, *element_visibility, res, gather, &job.cancel,
-                                                    [&](const char* stage, std::size_t d, std::size_t t) {
-                                                        job.report_items(stage, d, t);
-                                                    }) == GatherOutcome::gathered;
+                const auto report = [&](const char* stage, std::size_t d, std::size_t t) {
+                    job.report_items(stage, d, t);
+                };
+                out->gathered =
+                    (hierarchy ? gather_hierarchical_point_values(*hierarchy, *out->mesh, *element_visibility, res,
+                                                                  gather, &job.cancel, report)
+                               : gather_point_values(*out->mesh, *element_visibility, res, gather, &job.cancel,
+                                                     report)) == GatherOutcome::gathered;
                 if (!out->gathered) out->averaged_points = area_weighted_vertex_values(*out->mesh, res.radiosity);
                 out->result = std::move(res);
                 return;

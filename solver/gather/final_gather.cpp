@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
@@ -48,12 +49,11 @@ private:
     std::optional<GaussPointCache> m_gauss;  // with a positive tolerance only
 };
 
-}  // namespace
-
-std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
-                              const Visibility& visibility, std::span<const GatherPoint> points,
-                              const GatherOptions& options, const std::atomic<bool>* cancel,
-                              const std::function<void(std::size_t, std::size_t)>& progress) {
+/// Both final_gathers: over every patch (sources null) or over each point's list.
+std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity, const Visibility& visibility,
+                        std::span<const GatherPoint> points, const GatherSources* sources, const GatherOptions& options,
+                        const std::atomic<bool>* cancel,
+                        const std::function<void(std::size_t, std::size_t)>& progress) {
     std::vector<Rgb> out(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) out[i] = points[i].emission;
     std::atomic<std::size_t> done{0};
@@ -78,7 +78,10 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
         segments.clear();
         kernel.clear();
         const glm::dvec3 from = x.position + lift * x.normal;
-        for (std::size_t j = 0; j < patches.size(); ++j) {
+        const std::size_t list = sources ? sources->list[i] : 0;
+        const std::size_t count = sources ? sources->offsets[list + 1] - sources->offsets[list] : patches.size();
+        for (std::size_t s = 0; s < count; ++s) {
+            const std::size_t j = sources ? sources->patches[sources->offsets[list] + s] : s;
             const Patch& p = patches[j];
             if (p.surface == x.surface || radiosity[j].max() <= 0) continue;
             if (p.height(x.position) <= 0) continue;  // x behind p: p sends nothing its way
@@ -114,11 +117,31 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
             const double share = total > 0 ? open / total : double(open_rays) / double(t.count);
             gathered += radiosity[t.patch] * (t.f0 * share);
         }
+        if (sources && !sources->irradiance.empty()) gathered += sources->irradiance[list];
         out[i] = x.emission + x.reflectance * gathered;
         const std::size_t d = ++done;
         if (progress) progress(d, points.size());
     });
     return out;
+}
+
+}  // namespace
+
+std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
+                              const Visibility& visibility, std::span<const GatherPoint> points,
+                              const GatherOptions& options, const std::atomic<bool>* cancel,
+                              const std::function<void(std::size_t, std::size_t)>& progress) {
+    return gather(patches, radiosity, visibility, points, nullptr, options, cancel, progress);
+}
+
+std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
+                              const Visibility& visibility, std::span<const GatherPoint> points,
+                              const GatherSources& sources, const GatherOptions& options,
+                              const std::atomic<bool>* cancel,
+                              const std::function<void(std::size_t, std::size_t)>& progress) {
+    if (sources.list.size() != points.size())
+        throw std::invalid_argument("final gather: a source list is needed for every point");
+    return gather(patches, radiosity, visibility, points, &sources, options, cancel, progress);
 }
 
 std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {

@@ -56,6 +56,24 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
                               const GatherOptions& options = {}, const std::atomic<bool>* cancel = nullptr,
                               const std::function<void(std::size_t, std::size_t)>& progress = {});
 
+/// What each point gathers from, when not every patch (a hierarchy's links, which cover the
+/// scene once from every element: hierarchical_point_values.h). Point i gathers from the
+/// patches of list `list[i]`, patches[offsets[k] .. offsets[k + 1]) for list k, and adds the
+/// irradiance irradiance[k] (arrived by other means, such as cluster links; may be empty).
+struct GatherSources {
+    std::span<const std::uint32_t> list;     // per point
+    std::span<const std::size_t> offsets;    // per list, and one past the last
+    std::span<const std::uint32_t> patches;  // indices into the patches gathered from
+    std::span<const Rgb> irradiance;         // per list, or empty
+};
+
+/// final_gather over the patches `sources` names for each point, not over all of them.
+std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
+                              const Visibility& visibility, std::span<const GatherPoint> points,
+                              const GatherSources& sources, const GatherOptions& options = {},
+                              const std::atomic<bool>* cancel = nullptr,
+                              const std::function<void(std::size_t, std::size_t)>& progress = {});
+
 /// The mesh's vertices as gather points: each on its surface (vertices are shared only within
 /// a surface), moved 1% of the way towards the centres of the patches around it. A vertex on
 /// a contact edge (a lamp 0.1 mm below the ceiling, a block on the floor) then takes the value

@@ -24,10 +24,7 @@
 namespace bounce {
 namespace {
 
-struct Link {
-    std::uint32_t a, b;  // a gathers from b and b from a: element nodes or clusters (ClusterTree refs)
-    float fab = 0.0f;    // F_ab; F_ba = F_ab A_a / A_b (a cluster's A: its members' total area)
-};
+using Link = HierarchicalLink;
 
 /// One end of a link with a cluster: what the isotropic transfer needs of it.
 struct End {
@@ -383,7 +380,8 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
     H.assign(h.begin(), h.begin() + std::ptrdiff_t(n));
 }
 
-/// The leaves' radiosity and irradiance, and the energy account, into out.result.
+/// The leaves' radiosity and irradiance, and the energy account, into out.result; every
+/// node's radiosity and the leaves' irradiance from cluster links into out.
 void finish_result(const ElementTree& tree, const std::vector<Rgb>& B, const std::vector<Rgb>& H,
                    HierarchicalSolution& out) {
     SolveResult& res = out.result;
@@ -396,6 +394,24 @@ void finish_result(const ElementTree& tree, const std::vector<Rgb>& B, const std
         res.irradiance[k] = H[out.leaves[k]];
     }
     gathered_energy_account(tree.geometry(), out.leaves, res);
+    out.node_radiosity = B;
+    // The irradiance element links bring a node, pushed down the tree (children follow their
+    // parent in the node order: split() appends them); what a leaf has beyond it came over
+    // cluster links.
+    const auto& G = tree.geometry();
+    std::vector<Rgb> by_elements(tree.size());
+    for (const Link& l : out.link_list) {
+        if (ClusterTree::is_cluster(l.a) || ClusterTree::is_cluster(l.b)) continue;
+        by_elements[l.a] += B[l.b] * double(l.fab);
+        by_elements[l.b] += B[l.a] * (double(l.fab) * G[l.a].area / G[l.b].area);
+    }
+    for (std::size_t i = 0; i < tree.size(); ++i)
+        if (tree.node(i).parent >= 0) by_elements[i] += by_elements[std::size_t(tree.node(i).parent)];
+    out.cluster_irradiance.resize(out.leaves.size());
+    for (std::size_t k = 0; k < out.leaves.size(); ++k) {
+        const Rgb rest = H[out.leaves[k]] - by_elements[out.leaves[k]];
+        for (int c = 0; c < 3; ++c) out.cluster_irradiance[k][c] = std::max(0.0, rest[c]);
+    }
 }
 
 class Refiner {
@@ -537,7 +553,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     if (options.refine_rounds < 1) throw std::invalid_argument("hierarchical radiosity: at least one refinement round");
     const auto start = std::chrono::steady_clock::now();
     auto since_start = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0, 0, 0, 0.0};
+    HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0, 0, 0, 0.0, 0, {}, {}, {}};
     ElementTree& tree = out.tree;
     // First estimate of B for the oracle: emission plus the ambient term (the emitted power
     // spread over all area and inter-reflected by the mean reflectance).
@@ -650,6 +666,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     }
     for (const Link& l : links) out.cluster_links += ClusterTree::is_cluster(l.a) || ClusterTree::is_cluster(l.b);
     out.links = links.size();
+    out.link_list = std::move(links);
     finish_result(tree, B, H, out);
     res.seconds = since_start();
     return out;

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: MIT
+#include "solver/gather/hierarchical_point_values.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <vector>
+
+#include "solver/refinement/cluster_tree.h"
+
+namespace bounce {
+namespace {
+
+/// Per leaf (in solution.leaves order), the nodes its element links reach along its path to
+/// the root, as GatherSources lists; and each gather point's list.
+struct LinkSources {
+    std::vector<std::size_t> offsets;
+    std::vector<std::uint32_t> nodes;
+    std::vector<std::uint32_t> vertex_list;  // per vertex of the elements: its leaf
+    double pairs = 0.0;                      // vertices x sources
+};
+
+LinkSources link_sources(const HierarchicalSolution& sol, const PatchMesh& elements) {
+    const ElementTree& tree = sol.tree;
+    const std::size_t n = tree.size();
+    if (elements.size() != sol.leaves.size())
+        throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
+    // Element links per node (compressed rows).
+    std::vector<std::size_t> first(n + 1, 0);
+    for (const auto& l : sol.link_list)
+        if (!ClusterTree::is_cluster(l.a) && !ClusterTree::is_cluster(l.b) && l.fab != 0.0f) {
+            ++first[l.a + 1];
+            ++first[l.b + 1];
+        }
+    for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
+    std::vector<std::uint32_t> other(first[n]);
+    std::vector<std::size_t> fill(first.begin(), first.end() - 1);
+    for (const auto& l : sol.link_list)
+        if (!ClusterTree::is_cluster(l.a) && !ClusterTree::is_cluster(l.b) && l.fab != 0.0f) {
+            other[fill[l.a]++] = l.b;
+            other[fill[l.b]++] = l.a;
+        }
+    LinkSources out;
+    out.offsets.push_back(0);
+    for (const std::uint32_t leaf : sol.leaves) {
+        for (std::int64_t a = leaf; a >= 0; a = tree.node(std::size_t(a)).parent)
+            out.nodes.insert(out.nodes.end(), other.begin() + std::ptrdiff_t(first[std::size_t(a)]),
+                             other.begin() + std::ptrdiff_t(first[std::size_t(a) + 1]));
+        out.offsets.push_back(out.nodes.size());
+    }
+    // A vertex takes the last element around it, as vertex_gather_points takes its surface.
+    out.vertex_list.assign(elements.mesh().n_vertices(), 0);
+    for (std::size_t k = 0; k < elements.size(); ++k)
+        for (const int v : elements.patch_vertex_indices(k)) out.vertex_list[std::size_t(v)] = std::uint32_t(k);
+    for (const std::uint32_t k : out.vertex_list) out.pairs += double(out.offsets[k + 1] - out.offsets[k]);
+    return out;
+}
+
+}  // namespace
+
+double hierarchical_gather_pairs(const HierarchicalSolution& solution, const PatchMesh& elements) {
+    return link_sources(solution, elements).pairs;
+}
+
+GatherOutcome gather_hierarchical_point_values(
+    const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility, SolveResult& res,
+    const std::string& mode, const std::atomic<bool>* cancel,
+    const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
+    const auto modes = gather_modes();
+    if (std::find(modes.begin(), modes.end(), mode) == modes.end())
+        throw std::invalid_argument("gather: unknown mode, got '" + mode + "' (expected vertices, centres or none)");
+    if (mode == "none") return GatherOutcome::not_asked;
+    const auto start = std::chrono::steady_clock::now();
+    const LinkSources sources = link_sources(solution, elements);
+    if (sources.pairs > kMaxGatherPairs) return GatherOutcome::over_budget;
+    auto stopped = [&] { return cancel && cancel->load(); };
+    auto report = [&](const char* stage) {
+        return [&progress, stage](std::size_t d, std::size_t t) {
+            if (progress) progress(stage, d, t);
+        };
+    };
+    const GatherOptions options = point_value_options();
+    const auto& nodes = solution.tree.geometry();
+    const auto vertices = vertex_gather_points(elements);
+    const GatherSources at_vertices{sources.vertex_list, sources.offsets, sources.nodes, solution.cluster_irradiance};
+    res.point_radiosity = final_gather(nodes, solution.node_radiosity, visibility, vertices, at_vertices, options,
+                                       cancel, report("gathering: vertices"));
+    if (mode == "centres" && !stopped()) {
+        std::vector<std::uint32_t> own(elements.size());
+        for (std::size_t k = 0; k < own.size(); ++k) own[k] = std::uint32_t(k);
+        const auto centres = centre_gather_points(elements.patches());
+        const GatherSources at_centres{own, sources.offsets, sources.nodes, solution.cluster_irradiance};
+        res.gathered_centres = final_gather(nodes, solution.node_radiosity, visibility, centres, at_centres, options,
+                                            cancel, report("gathering: centres"));
+    }
+    res.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (stopped()) {
+        res.point_radiosity.clear();
+        res.gathered_centres.clear();
+        return GatherOutcome::interrupted;
+    }
+    return GatherOutcome::gathered;
+}
+
+}  // namespace bounce

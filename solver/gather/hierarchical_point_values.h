@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: MIT
+// The point data of a hierarchical solution, gathered through its links: a vertex gathers
+// from the elements its element and that element's ancestors are linked with, which cover the
+// scene once, instead of from every leaf (Hanrahan, Salzman and Aupperle 1991 evaluate the
+// kernel at the vertices for display the same way).
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "mesh/patch_mesh.h"
+#include "solver/gather/point_values.h"
+#include "solver/linear/solve_result.h"
+#include "solver/refinement/hierarchical_radiosity.h"
+#include "solver/visibility/visibility.h"
+
+namespace bounce {
+
+/// The vertex-source pairs gathering through the links costs: for every vertex of `elements`,
+/// the element links along its leaf's path to the root.
+double hierarchical_gather_pairs(const HierarchicalSolution& solution, const PatchMesh& elements);
+
+/// As gather_point_values, for the conforming mesh of a hierarchical solution's leaves
+/// (`elements`, from solution.tree.conforming_mesh(solution.leaves)): each vertex gathers,
+/// with the exact point kernel and visibility, from the other ends of the element links of
+/// the leaf it lies on and of that leaf's ancestors, at their radiosity; what came over links
+/// with a cluster end is added as the solve computed it (solution.cluster_irradiance). Its
+/// cost is vertices x links per path, not vertices x leaves; over kMaxGatherPairs of those it
+/// returns over_budget. `visibility` may be over the elements or over the input patches.
+GatherOutcome gather_hierarchical_point_values(
+    const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility, SolveResult& res,
+    const std::string& mode, const std::atomic<bool>* cancel = nullptr,
+    const std::function<void(const char*, std::size_t, std::size_t)>& progress = {});
+
+}  // namespace bounce

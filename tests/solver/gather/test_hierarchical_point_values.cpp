@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: MIT
+// Point data of hierarchical solutions gathered through their links (issue 17): the links of
+// a vertex's element and its ancestors must cover every source exactly once, so the gather
+// reproduces Lambert's formula under a lamp and E / (1 - rho) in a furnace, with cluster links
+// carried by the irradiance the solve computed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+#include "mesh/patch_mesh.h"
+#include "mesh/validation_scenes.h"
+#include "solver/form_factors/point_polygon_form_factor.h"
+#include "solver/gather/hierarchical_point_values.h"
+#include "solver/refinement/hierarchical_radiosity.h"
+
+using namespace bounce;
+
+// The lamps reflect nothing, so a vertex of the plane gets 0.5 E F(x -> lamps) exactly: the
+// lamps' elements its path is linked with must tile them once. Missing an ancestor's links
+// (or counting a source twice) would be off by the share of the lamps those links hold.
+TEST(HierarchicalPointValues, LampOverPlaneVerticesGetLambertsFormulaThroughTheLinks) {
+    Scene s = lamp_over_plane();
+    // A second, small lamp, lower than the first (nothing hides it): the plane's elements take
+    // it at a coarser level than the first (links at the leaves' ancestors).
+    s.surfaces.push_back(
+        {{{2.6, 2.6, 0.9}, {2.6, 2.7, 0.9}, {2.7, 2.7, 0.9}, {2.7, 2.6, 0.9}}, 1, "small lamp", {"test", 0}});
+    MeshingOptions o;
+    o.subdivide = false;
+    const PatchMesh m(s, o);
+    const auto vis = make_visibility("embree", m.patches());
+    HierarchicalOptions h;
+    h.link_epsilon = 0.3;
+    const HierarchicalSolution sol = solve_hierarchical(m.patches(), *vis, h);
+    ASSERT_GT(sol.leaves.size(), 100u);  // refined: links at several levels
+    const PatchMesh elements = sol.tree.conforming_mesh(sol.leaves);
+    const auto element_vis = make_visibility("embree", elements.patches());
+    SolveResult res = sol.result;
+    ASSERT_EQ(gather_hierarchical_point_values(sol, elements, *element_vis, res, "vertices"), GatherOutcome::gathered);
+    const auto points = vertex_gather_points(elements);
+    ASSERT_EQ(res.point_radiosity.size(), points.size());
+    std::size_t checked = 0;
+    double worst = 0.0;
+    for (std::size_t v = 0; v < points.size(); ++v) {
+        if (points[v].surface != 0) continue;
+        const double F = point_polygon_form_factor(points[v].position, {0, 0, 1}, s.surfaces[1].vertices) +
+                         point_polygon_form_factor(points[v].position, {0, 0, 1}, s.surfaces[2].vertices);
+        for (int c = 0; c < 3; ++c) {
+            const double want = 0.5 * Rgb(3, 2, 1)[c] * F;
+            // The gather takes far sources by the Gauss rule to a relative 1e-4 each (point_value_options).
+            ASSERT_NEAR(res.point_radiosity[v][c], want, 5e-4 * want + 1e-12) << "vertex " << v;
+            worst = std::max(worst, std::abs(res.point_radiosity[v][c] / want - 1));
+        }
+        ++checked;
+    }
+    EXPECT_GT(checked, 100u);
+    // Cheaper than gathering from every leaf.
+    const double pairs = hierarchical_gather_pairs(sol, elements);
+    EXPECT_LT(pairs, 0.5 * double(points.size()) * double(sol.leaves.size()));
+    std::cout << "lamp over plane: " << sol.leaves.size() << " elements, " << checked
+              << " plane vertices, largest relative error " << worst << ", " << pairs << " vertex-source pairs ("
+              << pairs / (double(points.size()) * double(sol.leaves.size())) << " of every vertex x leaf)\n";
+}
+
+// A closed furnace of small patches, one element each, clustered: part of every vertex's light
+// comes over cluster links (the solve's irradiance) and part through element links (gathered
+// with the exact kernel). Every point is E / (1 - rho) = 2; losing either part would leave it
+// near 1 + the other part.
+TEST(HierarchicalPointValues, ClusteredFurnaceVerticesGatherEOverOneMinusRho) {
+    const Scene box = closed_box({1.0, 1.5, 2.0}, {"furnace", Rgb::gray(0.5), Rgb::gray(1.0)});
+    MeshingOptions o;
+    o.target_patches = 600;
+    const PatchMesh m(box, o);
+    const auto vis = make_visibility("embree", m.patches());
+    HierarchicalOptions h;
+    h.max_level = 0;
+    h.link_epsilon = 0.2;
+    const HierarchicalSolution sol = solve_hierarchical(m.patches(), *vis, h);
+    ASSERT_GT(sol.cluster_links, 0u);
+    const PatchMesh elements = sol.tree.conforming_mesh(sol.leaves);
+    const auto element_vis = make_visibility("embree", elements.patches());
+    SolveResult res = sol.result;
+    ASSERT_EQ(gather_hierarchical_point_values(sol, elements, *element_vis, res, "centres"), GatherOutcome::gathered);
+    // The cluster links' point-to-point transfer is approximate (the solve's leaves are 2 within
+    // a few %): the gather redoes the element links with the exact kernel but keeps each
+    // element's cluster irradiance, so it may err about as much as the solve, not more.
+    auto deviation = [](const std::vector<Rgb>& values) {
+        double sum = 0.0, worst = 0.0;
+        for (const Rgb& b : values) {
+            sum += (b.g - 2.0) * (b.g - 2.0);
+            worst = std::max(worst, std::abs(b.g - 2.0));
+        }
+        return std::pair(std::sqrt(sum / double(values.size())), worst);
+    };
+    const auto [solve_rms, solve_worst] = deviation(sol.result.radiosity);
+    const auto [vertex_rms, vertex_worst] = deviation(res.point_radiosity);
+    const auto [centre_rms, centre_worst] = deviation(res.gathered_centres);
+    double from_clusters = 0.0;
+    for (const Rgb& e : sol.cluster_irradiance) from_clusters = std::max(from_clusters, e.g);
+    std::cout << "furnace: " << sol.leaves.size() << " elements, " << sol.links << " links (" << sol.cluster_links
+              << " with a cluster), largest cluster irradiance " << from_clusters
+              << " of 2; |B - 2| RMS / worst: solve " << solve_rms << " / " << solve_worst << ", vertices "
+              << vertex_rms << " / " << vertex_worst << ", centres " << centre_rms << " / " << centre_worst << "\n";
+    EXPECT_GT(from_clusters, 0.1);  // the cluster part is tested, not absent
+    EXPECT_LT(vertex_rms, 2.0 * solve_rms);
+    EXPECT_LT(vertex_worst, 2.0 * solve_worst);
+    EXPECT_LT(centre_rms, 1.5 * solve_rms);
+}
