@@ -152,9 +152,19 @@ struct Spread {
 };
 
 Spread point_factor_spread(const Patch& a, const Patch& b) {
+    // Far from b (beyond kFar circumradii), the point-to-point kernel at b's centre: within
+    // about (r_b / d)^2 < 3% of Lambert's formula, far below the link epsilons' tens of
+    // percent, and no arc tangents (Lambert's formula made the oracle most of a solve).
+    static constexpr double kFar = 6.0;
+    const double far2 = kFar * kFar * circumradius(b) * circumradius(b);
     auto at = [&](const glm::dvec3& y) {
         const glm::dvec3 x = y + 1e-4 * (a.centre - y);
         if (b.height(x) <= 0.0) return 0.0;  // behind b: b sends it nothing
+        const glm::dvec3 d = b.centre - x;
+        const double d2 = glm::dot(d, d);
+        if (d2 > far2)
+            return b.area * std::max(0.0, glm::dot(a.normal, d)) * std::max(0.0, -glm::dot(b.normal, d)) /
+                   (std::numbers::pi * d2 * d2);
         return point_polygon_form_factor(x, a.normal, b.polygon());
     };
     double lo = at(a.centre), hi = lo, sum = lo;
@@ -425,7 +435,27 @@ public:
           m_b(radiosity),
           m_cb(cluster_radiosity),
           m_scale(scale),
-          m_power_budget(o.power_epsilon * power) {}
+          m_power_budget(o.power_epsilon * power) {
+        // How much the leaves' radiosity varies under each node, from the last solution
+        // (children follow their parent in the node order, so one pass backwards).
+        const std::size_t n = tree.size();
+        std::vector<double> lo(n), hi(n);
+        for (std::size_t i = n; i-- > 0;) {
+            const auto& node = tree.node(i);
+            if (node.leaf()) {
+                lo[i] = hi[i] = radiosity[i].luminance();
+                continue;
+            }
+            lo[i] = 1e300;
+            hi[i] = -1e300;
+            for (int c = 0; c < 4; ++c) {
+                lo[i] = std::min(lo[i], lo[std::size_t(node.first_child + c)]);
+                hi[i] = std::max(hi[i], hi[std::size_t(node.first_child + c)]);
+            }
+        }
+        m_b_range.resize(n);
+        for (std::size_t i = 0; i < n; ++i) m_b_range[i] = hi[i] - lo[i];
+    }
 
     /// Refines a pair of which either end may be a cluster (ClusterTree refs); pairs of
     /// elements go to refine(). A link with a cluster hands every member the same
@@ -495,10 +525,12 @@ public:
         const Spread ab = point_factor_spread(G[a], G[b]), ba = point_factor_spread(G[b], G[a]);
         const double lb = m_b[b].luminance(), la = m_b[a].luminance();
         const double eps = m_options.link_epsilon, floor = m_options.link_floor * m_scale;
-        const bool relative =
-            ab.spread * lb <= eps * (ab.mean * lb + floor) && ba.spread * la <= eps * (ba.mean * la + floor);
-        const bool faint = m_power_budget > 0 && ab.spread * lb * G[a].area <= m_power_budget &&
-                           ba.spread * la * G[b].area <= m_power_budget;
+        // A link also hands a the mean radiosity of b, where the last solution varied by
+        // b_range over b's leaves: up to F(a -> b) b_range more error.
+        const double err_a = ab.spread * lb + ab.mean * range(b), err_b = ba.spread * la + ba.mean * range(a);
+        const bool relative = err_a <= eps * (ab.mean * lb + floor) && err_b <= eps * (ba.mean * la + floor);
+        const bool faint =
+            m_power_budget > 0 && err_a * G[a].area <= m_power_budget && err_b * G[b].area <= m_power_budget;
         const bool fine = relative || faint;
         const bool split_a = splittable(a), split_b = splittable(b);
         if (fine || (!split_a && !split_b)) {
@@ -529,6 +561,8 @@ private:
         return std::uint32_t(m_tree.node(i).first_child);
     }
 
+    double range(std::uint32_t i) const { return i < m_b_range.size() ? m_b_range[i] : 0.0; }  // 0: made this round
+
     double luminance(std::uint32_t ref) const {
         return ClusterTree::is_cluster(ref) ? m_cb[ClusterTree::index(ref)].luminance() : m_b[ref].luminance();
     }
@@ -541,6 +575,7 @@ private:
     const std::vector<Rgb>& m_cb;
     double m_scale;
     double m_power_budget;  // power_epsilon of the scene's power: a link misplacing less is fine
+    std::vector<double> m_b_range;  // per node of the last round: max - min of its leaves' luminance
 };
 
 }  // namespace
