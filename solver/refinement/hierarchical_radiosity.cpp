@@ -574,7 +574,7 @@ private:
     std::vector<Rgb>& m_b;
     const std::vector<Rgb>& m_cb;
     double m_scale;
-    double m_power_budget;  // power_epsilon of the scene's power: a link misplacing less is fine
+    double m_power_budget;          // power_epsilon of the scene's power: a link misplacing less is fine
     std::vector<double> m_b_range;  // per node of the last round: max - min of its leaves' luminance
 };
 
