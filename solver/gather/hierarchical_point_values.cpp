@@ -2,7 +2,6 @@
 #include "solver/gather/hierarchical_point_values.h"
 
 #include <algorithm>
-#include <chrono>
 #include <stdexcept>
 #include <vector>
 
@@ -66,40 +65,26 @@ GatherOutcome gather_hierarchical_point_values(
     const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility, SolveResult& res,
     const std::string& mode, const std::atomic<bool>* cancel,
     const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
-    const auto modes = gather_modes();
-    if (std::find(modes.begin(), modes.end(), mode) == modes.end())
-        throw std::invalid_argument("gather: unknown mode, got '" + mode + "' (expected vertices, centres or none)");
+    check_gather_mode(mode);
     if (mode == "none") return GatherOutcome::not_asked;
-    const auto start = std::chrono::steady_clock::now();
     const LinkSources sources = link_sources(solution, elements);
     if (sources.pairs > kMaxGatherPairs) return GatherOutcome::over_budget;
-    auto stopped = [&] { return cancel && cancel->load(); };
-    auto report = [&](const char* stage) {
-        return [&progress, stage](std::size_t d, std::size_t t) {
-            if (progress) progress(stage, d, t);
-        };
-    };
     const GatherOptions options = point_value_options();
     const auto& nodes = solution.tree.geometry();
-    const auto vertices = vertex_gather_points(elements);
-    const GatherSources at_vertices{sources.vertex_list, sources.offsets, sources.nodes, solution.cluster_irradiance};
-    res.point_radiosity = final_gather(nodes, solution.node_radiosity, visibility, vertices, at_vertices, options,
-                                       cancel, report("gathering: vertices"));
-    if (mode == "centres" && !stopped()) {
-        std::vector<std::uint32_t> own(elements.size());
-        for (std::size_t k = 0; k < own.size(); ++k) own[k] = std::uint32_t(k);
-        const auto centres = centre_gather_points(elements.patches());
-        const GatherSources at_centres{own, sources.offsets, sources.nodes, solution.cluster_irradiance};
-        res.gathered_centres = final_gather(nodes, solution.node_radiosity, visibility, centres, at_centres, options,
-                                            cancel, report("gathering: centres"));
-    }
-    res.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (stopped()) {
-        res.point_radiosity.clear();
-        res.gathered_centres.clear();
-        return GatherOutcome::interrupted;
-    }
-    return GatherOutcome::gathered;
+    return run_point_gather(
+        mode, res, cancel, progress,
+        [&](const auto& report) {
+            const GatherSources at{sources.vertex_list, sources.offsets, sources.nodes, solution.cluster_irradiance};
+            res.point_radiosity = final_gather(nodes, solution.node_radiosity, visibility,
+                                               vertex_gather_points(elements), at, options, cancel, report);
+        },
+        [&](const auto& report) {
+            std::vector<std::uint32_t> own(elements.size());  // a centre gathers through its own element
+            for (std::size_t k = 0; k < own.size(); ++k) own[k] = std::uint32_t(k);
+            const GatherSources at{own, sources.offsets, sources.nodes, solution.cluster_irradiance};
+            res.gathered_centres = final_gather(nodes, solution.node_radiosity, visibility,
+                                                centre_gather_points(elements.patches()), at, options, cancel, report);
+        });
 }
 
 }  // namespace bounce

@@ -15,15 +15,15 @@ GatherOptions point_value_options() {
     return o;
 }
 
-GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res,
-                                  const std::string& mode, const std::atomic<bool>* cancel,
-                                  const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
+void check_gather_mode(const std::string& mode) {
     const auto modes = gather_modes();
     if (std::find(modes.begin(), modes.end(), mode) == modes.end())
         throw std::invalid_argument("gather: unknown mode, got '" + mode + "' (expected vertices, centres or none)");
-    if (mode == "none") return GatherOutcome::not_asked;
-    const double pairs = double(mesh.mesh().n_vertices()) * double(mesh.size());
-    if (pairs > kMaxGatherPairs) return GatherOutcome::over_budget;
+}
+
+GatherOutcome run_point_gather(const std::string& mode, SolveResult& res, const std::atomic<bool>* cancel,
+                               const std::function<void(const char*, std::size_t, std::size_t)>& progress,
+                               const GatherStage& vertices, const GatherStage& centres) {
     auto stopped = [&] { return cancel && cancel->load(); };
     auto report = [&](const char* stage) {
         return [&progress, stage](std::size_t d, std::size_t t) {
@@ -31,15 +31,8 @@ GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visib
         };
     };
     const auto start = std::chrono::steady_clock::now();
-    const GatherOptions options = point_value_options();
-    const auto vertices = vertex_gather_points(mesh);
-    res.point_radiosity = final_gather(mesh.patches(), res.radiosity, visibility, vertices, options, cancel,
-                                       report("gathering: vertices"));
-    if (mode == "centres" && !stopped()) {
-        const auto centres = centre_gather_points(mesh.patches());
-        res.gathered_centres = final_gather(mesh.patches(), res.radiosity, visibility, centres, options, cancel,
-                                            report("gathering: centres"));
-    }
+    vertices(report("gathering: vertices"));
+    if (mode == "centres" && !stopped()) centres(report("gathering: centres"));
     res.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (stopped()) {
         res.point_radiosity.clear();
@@ -47,6 +40,26 @@ GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visib
         return GatherOutcome::interrupted;
     }
     return GatherOutcome::gathered;
+}
+
+GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res,
+                                  const std::string& mode, const std::atomic<bool>* cancel,
+                                  const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
+    check_gather_mode(mode);
+    if (mode == "none") return GatherOutcome::not_asked;
+    const double pairs = double(mesh.mesh().n_vertices()) * double(mesh.size());
+    if (pairs > kMaxGatherPairs) return GatherOutcome::over_budget;
+    const GatherOptions options = point_value_options();
+    return run_point_gather(
+        mode, res, cancel, progress,
+        [&](const auto& report) {
+            res.point_radiosity = final_gather(mesh.patches(), res.radiosity, visibility, vertex_gather_points(mesh),
+                                               options, cancel, report);
+        },
+        [&](const auto& report) {
+            res.gathered_centres = final_gather(mesh.patches(), res.radiosity, visibility,
+                                                centre_gather_points(mesh.patches()), options, cancel, report);
+        });
 }
 
 }  // namespace bounce

@@ -36,6 +36,18 @@ enum class GatherOutcome {
     interrupted,  // `cancel` was set; nothing kept
 };
 
+/// The frame both point gathers share (this one and hierarchical_point_values.h): `vertices`
+/// fills res.point_radiosity and, for mode "centres", `centres` res.gathered_centres, each
+/// given its stage's progress callback; their time is added to res.seconds, and both are
+/// cleared when `cancel` was set. Throws std::invalid_argument on an unknown mode.
+using GatherStage = std::function<void(const std::function<void(std::size_t, std::size_t)>& progress)>;
+GatherOutcome run_point_gather(const std::string& mode, SolveResult& res, const std::atomic<bool>* cancel,
+                               const std::function<void(const char*, std::size_t, std::size_t)>& progress,
+                               const GatherStage& vertices, const GatherStage& centres);
+
+/// Throws std::invalid_argument unless `mode` is one of gather_modes().
+void check_gather_mode(const std::string& mode);
+
 /// Fills res.point_radiosity (and res.gathered_centres for "centres") by final gather from the
 /// solved patches and adds the time to res.seconds. Leaves them empty (the averaged point data
 /// is written) unless it returns `gathered`. `progress(stage, done, total)` is called from
