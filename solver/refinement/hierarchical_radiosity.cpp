@@ -457,31 +457,47 @@ public:
         for (std::size_t i = 0; i < n; ++i) m_b_range[i] = hi[i] - lo[i];
     }
 
-    /// Refines a pair of which either end may be a cluster (ClusterTree refs); pairs of
-    /// elements go to refine(). A link with a cluster hands every member the same
-    /// irradiance, so its error at a member is bounded by what the other end could send it
-    /// at most: B_b A_b / (pi r_min^2), every member of b facing the point at the bounding
-    /// spheres' gap (Sillion 1995). Link when that is below link_epsilon of what the link
-    /// brings plus cluster_floor of the scene's mean radiosity, both ways round; else split
-    /// the larger cluster. A cluster's self-link is always refined: it would send a cluster's
-    /// power to itself.
-    void refine_any(std::uint32_t a, std::uint32_t b) {
+    struct Pair {
+        std::uint32_t a, b;
+    };
+
+    /// Refines from `pairs`, a generation at a time: every pair of a generation is judged in
+    /// parallel (decide() reads the tree and the last solution, never changes them), then, in
+    /// the generation's order, linked, dropped or split into pairs of the next generation.
+    /// Splitting, the one step that changes the tree, stays serial and in a fixed order, so
+    /// the elements' numbering and the links do not depend on the number of threads.
+    void run(std::vector<Pair> pairs) {
+        std::vector<Step> steps;
+        std::vector<Pair> next;
+        while (!pairs.empty()) {
+            steps.resize(pairs.size());
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.size(), 256), [&](const auto& r) {
+                for (std::size_t k = r.begin(); k != r.end(); ++k) steps[k] = decide(pairs[k].a, pairs[k].b);
+            });
+            next.clear();
+            for (std::size_t k = 0; k < pairs.size(); ++k) apply(pairs[k], steps[k], next);
+            pairs.swap(next);
+        }
+    }
+
+    std::vector<Link> links;
+
+private:
+    enum class Step : std::uint8_t { drop, link, split_a, split_b, split_self };
+
+    /// A pair of which either end may be a cluster (ClusterTree refs); pairs of elements go
+    /// to decide_elements(). A link with a cluster hands every member the same irradiance, so
+    /// its error at a member is bounded by what the other end could send it at most: B_b A_b
+    /// / (pi r_min^2), every member of b facing the point at the bounding spheres' gap (Sillion
+    /// 1995). Link when that is below link_epsilon of what the link brings plus cluster_floor
+    /// of the scene's mean radiosity, both ways round; else split the larger cluster. A
+    /// cluster's self-link is always refined: it would send a cluster's power to itself.
+    Step decide(std::uint32_t a, std::uint32_t b) const {
         const bool ca = ClusterTree::is_cluster(a), cb = ClusterTree::is_cluster(b);
-        if (!ca && !cb) {
-            // A planar patch does not see itself; pairs go in the unclustered order (the
-            // oracle's ties in area split the first).
-            if (a != b) refine(std::min(a, b), std::max(a, b));
-            return;
-        }
-        if (a == b) {
-            const auto child = m_clusters->cluster(a).child;
-            refine_any(child[0], child[0]);
-            refine_any(child[0], child[1]);
-            refine_any(child[1], child[1]);
-            return;
-        }
+        if (!ca && !cb) return decide_elements(a, b);
+        if (a == b) return Step::split_self;
         const End ea = end_of(m_tree, *m_clusters, a), eb = end_of(m_tree, *m_clusters, b);
-        if ((ea.element && eb.behind(*ea.element)) || (eb.element && ea.behind(*eb.element))) return;
+        if ((ea.element && eb.behind(*ea.element)) || (eb.element && ea.behind(*eb.element))) return Step::drop;
         const double gap = glm::length(eb.centre - ea.centre) - ea.radius - eb.radius;
         const double la = luminance(a), lb = luminance(b);
         if (gap > 0) {
@@ -493,24 +509,17 @@ public:
             const bool relative =
                 bound_a <= eps * (k / ea.area * lb + floor) && bound_b <= eps * (k / eb.area * la + floor);
             if (relative || (m_power_budget > 0 && std::min(bound_a * ea.area, lb * eb.area) <= m_power_budget &&
-                             std::min(bound_b * eb.area, la * ea.area) <= m_power_budget)) {
-                links.push_back({a, b});
-                return;
-            }
+                             std::min(bound_b * eb.area, la * ea.area) <= m_power_budget))
+                return Step::link;
         } else if (m_power_budget > 0 && std::min(ea.area, eb.area) * std::max(la, lb) <= m_power_budget) {
             // Touching or overlapping ends: no point-to-point bound, but neither can send the
             // other more than B min(A_a, A_b) (F <= 1 both ways), and that is faint.
-            links.push_back({a, b});
-            return;
+            return Step::link;
         }
         // Split the larger of two clusters; an element meeting a cluster waits while the
         // cluster is split, so two patches always meet as a pair and the element oracle alone
         // decides how they are cut (as without clustering).
-        const bool take_a = ca && (!cb || ea.area >= eb.area);
-        const std::uint32_t s = take_a ? a : b, other = take_a ? b : a;
-        const auto child = m_clusters->cluster(s).child;
-        refine_any(child[0], other);
-        refine_any(child[1], other);
+        return ca && (!cb || ea.area >= eb.area) ? Step::split_a : Step::split_b;
     }
 
     /// A link hands every point of a the mean F(a -> b), so it errs at a's leaves by up to
@@ -519,9 +528,9 @@ public:
     /// Hanrahan et al. section 4: faint interactions stay coarse), both ways round; else split
     /// the larger. Summed over a leaf's links the error is then at most link_epsilon of its
     /// irradiance plus the floors.
-    void refine(std::uint32_t a, std::uint32_t b) {
+    Step decide_elements(std::uint32_t a, std::uint32_t b) const {
         const auto& G = m_tree.geometry();
-        if (wholly_behind(G[a], G[b]) || wholly_behind(G[b], G[a])) return;
+        if (wholly_behind(G[a], G[b]) || wholly_behind(G[b], G[a])) return Step::drop;
         const Spread ab = point_factor_spread(G[a], G[b]), ba = point_factor_spread(G[b], G[a]);
         const double lb = m_b[b].luminance(), la = m_b[a].luminance();
         const double eps = m_options.link_epsilon, floor = m_options.link_floor * m_scale;
@@ -531,21 +540,50 @@ public:
         const bool relative = err_a <= eps * (ab.mean * lb + floor) && err_b <= eps * (ba.mean * la + floor);
         const bool faint =
             m_power_budget > 0 && err_a * G[a].area <= m_power_budget && err_b * G[b].area <= m_power_budget;
-        const bool fine = relative || faint;
         const bool split_a = splittable(a), split_b = splittable(b);
-        if (fine || (!split_a && !split_b)) {
-            links.push_back({a, b});
-            return;
-        }
-        const bool take_a = split_a && (!split_b || G[a].area >= G[b].area);
-        const std::uint32_t s = take_a ? a : b, other = take_a ? b : a;
-        const std::uint32_t first = children(s);
-        for (std::uint32_t k = 0; k < 4; ++k) refine(first + k, other);
+        if (relative || faint || (!split_a && !split_b)) return Step::link;
+        return split_a && (!split_b || G[a].area >= G[b].area) ? Step::split_a : Step::split_b;
     }
 
-    std::vector<Link> links;
+    /// Carries out a decision; new pairs go to `next`.
+    void apply(const Pair& p, Step step, std::vector<Pair>& next) {
+        // Pairs of elements met through clusters go in the unclustered order (the oracle's
+        // ties in area split the first); a planar patch does not see itself.
+        auto any = [&next](std::uint32_t x, std::uint32_t y) {
+            if (ClusterTree::is_cluster(x) || ClusterTree::is_cluster(y))
+                next.push_back({x, y});
+            else if (x != y)
+                next.push_back({std::min(x, y), std::max(x, y)});
+        };
+        switch (step) {
+            case Step::drop:
+                return;
+            case Step::link:
+                links.push_back({p.a, p.b});
+                return;
+            case Step::split_self: {
+                const auto child = m_clusters->cluster(p.a).child;
+                any(child[0], child[0]);
+                any(child[0], child[1]);
+                any(child[1], child[1]);
+                return;
+            }
+            case Step::split_a:
+            case Step::split_b: {
+                const std::uint32_t s = step == Step::split_a ? p.a : p.b, other = step == Step::split_a ? p.b : p.a;
+                if (ClusterTree::is_cluster(s)) {
+                    const auto child = m_clusters->cluster(s).child;
+                    any(child[0], other);
+                    any(child[1], other);
+                    return;
+                }
+                const std::uint32_t first = children(s);
+                for (std::uint32_t k = 0; k < 4; ++k) next.push_back({first + k, other});
+                return;
+            }
+        }
+    }
 
-private:
     bool splittable(std::uint32_t i) const {
         const auto& n = m_tree.node(i);
         return n.level < m_options.max_level && m_tree.geometry()[i].area >= 4.0 * m_min_area[n.root] * (1 - 1e-9);
@@ -655,10 +693,14 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
             if (options.progress) options.progress(stage + ": refining links", 0, 1);
             Refiner refiner(tree, cluster_tree, options, min_area, B, Bc, scale, power);
             if (cluster_tree) {
-                refiner.refine_any(cluster_tree->root(), cluster_tree->root());
+                refiner.run({{cluster_tree->root(), cluster_tree->root()}});
             } else {
-                for (std::uint32_t p = 0; p < patches.size(); ++p)
-                    for (std::uint32_t q = p + 1; q < patches.size(); ++q) refiner.refine(p, q);
+                // Every pair of patches, a patch's pairs at a time (not N^2 / 2 pairs at once).
+                for (std::uint32_t p = 0; p < patches.size(); ++p) {
+                    std::vector<Refiner::Pair> pairs;
+                    for (std::uint32_t q = p + 1; q < patches.size(); ++q) pairs.push_back({p, q});
+                    refiner.run(std::move(pairs));
+                }
             }
             links = std::move(refiner.links);
         }
