@@ -225,6 +225,21 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
     for (std::size_t c = 0; c < nc && c < Bc.size(); ++c) b[n + c] = Bc[c];
     std::vector<double> fba(links.size());
     for (std::size_t k = 0; k < links.size(); ++k) fba[k] = double(links[k].fab) * area(links[k].a) / area(links[k].b);
+    // Per receiving slot, the links it gathers over: 2 k for link k's a end, 2 k + 1 for its b end.
+    std::vector<std::size_t> incoming_first(n + nc + 1, 0);
+    for (const Link& l : links) {
+        ++incoming_first[slot(l.a) + 1];
+        ++incoming_first[slot(l.b) + 1];
+    }
+    for (std::size_t r = 0; r < n + nc; ++r) incoming_first[r + 1] += incoming_first[r];
+    std::vector<std::uint64_t> incoming(incoming_first[n + nc]);
+    {
+        std::vector<std::size_t> fill(incoming_first.begin(), incoming_first.end() - 1);
+        for (std::size_t k = 0; k < links.size(); ++k) {
+            incoming[fill[slot(links[k].a)]++] = 2 * std::uint64_t(k);
+            incoming[fill[slot(links[k].b)]++] = 2 * std::uint64_t(k) + 1;
+        }
+    }
     std::vector<std::uint32_t> order;  // parents before children
     for (std::uint32_t r = 0; r < tree.root_count(); ++r) order.push_back(r);
     for (std::size_t k = 0; k < order.size(); ++k)
@@ -263,37 +278,42 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
         }
         // Gather: every element or cluster collects F B over its links, both ways round. A
         // cluster end sends the radiosity of its members facing the other end and hands what it
-        // gathers to the members facing the other end (oriented clusters, below).
-        std::fill(gathered.begin(), gathered.end(), Rgb());
-        if (oriented) std::fill(bin_power.begin(), bin_power.end(), Rgb());
-        for (std::size_t k = 0; k < links.size(); ++k) {
-            const Link& l = links[k];
-            if (l.fab == 0.0f) continue;
-            const std::size_t sa = slot(l.a), sb = slot(l.b);
-            const bool ca = sa >= n, cb = sb >= n;
-            // Only a link with a cluster end needs its direction: element pairs skip the root.
-            const glm::dvec3 v = oriented && (ca || cb) ? centre(sb) - centre(sa) : glm::dvec3(0.0);  // a towards b
-            const double length = glm::length(v);
-            if (!(length > 0)) {
-                gathered[sa] += b[sb] * double(l.fab);
-                gathered[sb] += b[sa] * fba[k];
-                continue;
+        // gathers to the members facing the other end (oriented clusters, below). In parallel
+        // over the receivers, each summing its own links in link order (the same sums on any
+        // number of threads).
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n + nc, 512), [&](const auto& range) {
+            for (std::size_t r = range.begin(); r != range.end(); ++r) {
+                Rgb sum;
+                Rgb* bins = oriented && r >= n ? &bin_power[6 * (r - n)] : nullptr;
+                if (bins) std::fill(bins, bins + 6, Rgb());
+                for (std::size_t e = incoming_first[r]; e < incoming_first[r + 1]; ++e) {
+                    const std::size_t k = incoming[e] >> 1;
+                    const bool at_b = incoming[e] & 1;  // r is the link's b end: it gathers from a
+                    const Link& l = links[k];
+                    if (l.fab == 0.0f) continue;
+                    const std::size_t sa = slot(l.a), sb = slot(l.b), src = at_b ? sa : sb;
+                    const double F = at_b ? fba[k] : double(l.fab);
+                    // Only a link with a cluster end needs its direction: element pairs skip the root.
+                    const bool clustered = oriented && (sa >= n || sb >= n);
+                    const glm::dvec3 v = clustered ? centre(src) - centre(r) : glm::dvec3(0.0);  // r towards src
+                    const double length = glm::length(v);
+                    if (!(length > 0)) {
+                        sum += b[src] * F;
+                        continue;
+                    }
+                    const glm::dvec3 u = v / length;
+                    // r's members facing src (along u) and src's facing r (along -u).
+                    const AxisWeights wr = r >= n ? AxisWeights(u, C[r - n].axis_area) : AxisWeights(u, kNone);
+                    const AxisWeights ws = src >= n ? AxisWeights(-u, C[src - n].axis_area) : AxisWeights(u, kNone);
+                    const Rgb from = ws.none ? b[src] : ws.mix(&bin_b[6 * (src - n)]);
+                    if (wr.none)
+                        sum += from * F;
+                    else
+                        wr.add(bins, from * (F * area_of(r)));
+                }
+                gathered[r] = sum;
             }
-            const glm::dvec3 u = v / length;
-            // a's members facing b (along u) and b's facing a (along -u).
-            const AxisWeights wa = ca ? AxisWeights(u, C[sa - n].axis_area) : AxisWeights(u, kNone);
-            const AxisWeights wb = cb ? AxisWeights(-u, C[sb - n].axis_area) : AxisWeights(u, kNone);
-            const Rgb from_b = wb.none ? b[sb] : wb.mix(&bin_b[6 * (sb - n)]);
-            const Rgb from_a = wa.none ? b[sa] : wa.mix(&bin_b[6 * (sa - n)]);
-            if (wa.none)
-                gathered[sa] += from_b * double(l.fab);
-            else
-                wa.add(&bin_power[6 * (sa - n)], from_b * (double(l.fab) * area_of(sa)));
-            if (wb.none)
-                gathered[sb] += from_a * fba[k];
-            else
-                wb.add(&bin_power[6 * (sb - n)], from_a * (fba[k] * area_of(sb)));
-        }
+        });
         // Push: what a cluster or element gathered reaches the members and leaves below it.
         // Isotropic clusters hand every member the same irradiance; oriented ones hand the
         // power that came from each axis direction to the members facing it, in proportion to
