@@ -78,7 +78,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     const bool hierarchical = s.solver == "hierarchical";
     CommonOptions roots = o;
     // Start coarse: the elements refine where the light needs it.
-    if (hierarchical && default_meshing(o)) roots.meshing.subdivide = false;
+    if (hierarchical && default_meshing(o)) roots.meshing.target_patches = 30;
     if (!hierarchical && default_meshing(o)) roots.meshing.target_patches = 150;
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
