@@ -134,6 +134,17 @@ def main():
               int(sh["BM_CornellSolve/1/real_time"]["patches"]),
               {"threads": threads, "seconds": t, "steps": int(sh["BM_CornellSolve/1/real_time"]["shots"])})
 
+    hr = run_gbench(os.path.join(a.build, "bench", "bench_hierarchical"), a.short, micro_patches)
+    h1 = hr["BM_HierarchicalCornell/1/real_time"]
+    for threads in (1, 2):
+        b = hr[f"BM_HierarchicalCornell/{threads}/real_time"]
+        if (b["elements"], b["links"]) != (h1["elements"], h1["links"]):
+            raise SystemExit("bench: hierarchical refinement made other elements or links on another thread count")
+        micro(f"hierarchical Cornell solve (link epsilon 0.2, max level {int(b['max_level'])}), {threads} thread"
+              f"{'s' if threads > 1 else ''}", b["real_time"] / 1e3, "s", int(b["patches"]),
+              {"threads": threads, "seconds": b["real_time"] / 1e3, "elements": int(b["elements"]),
+               "steps": int(b["links"])})
+
     ref = run_gbench(os.path.join(a.build, "bench", "bench_reference"), a.short, micro_patches)
     for threads in (1, 2):
         b = ref[f"BM_ReferencePaths/{threads}/real_time"]
