@@ -25,7 +25,6 @@
 #include "mesh/patch_mesh.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
-#include "solver/gather/hierarchical_point_values.h"
 #include "solver/linear/gathering_solver.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/linear/solver.h"
@@ -110,15 +109,14 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     const std::vector<ReferencePoint> probes = reference_for_compare(scene, c.reference, c.out, o.quiet);
     // Scores a solution as solve would write it: point data gathered (the time added to the
     // row's seconds) when the mesh is within the gather's budget.
-    // A hierarchical solution gathers through its links (hierarchical_point_values.h).
+    // A hierarchical solution gathers through its links (hierarchical_point_values.h), and
+    // that gather weighs its own budget from the lists it builds (asking first would build them twice).
     auto score_mesh = [&](const PatchMesh& m, const std::vector<Rgb>& B, double& seconds, bool& gathered,
                           const HierarchicalSolution* hierarchy) {
         SolveResult r;
         r.radiosity = B;
         gathered = false;
-        const double pairs =
-            hierarchy ? hierarchical_gather_pairs(*hierarchy, m) : double(m.mesh().n_vertices()) * double(m.size());
-        if (c.gather != "none" && pairs <= kMaxGatherPairs) {
+        if (c.gather != "none" && (hierarchy || double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs)) {
             const auto v = make_visibility(o.visibility, m.patches());
             gathered = hierarchy ? gather_point_values(*hierarchy, m, *v, r, "vertices", true)
                                  : gather_point_values(m, *v, r, "vertices", true);
@@ -209,7 +207,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
             std::ostringstream setting;
             setting << "link epsilon " << eps;
             if (power_eps > 0) setting << " power epsilon " << power_eps;
-            add_row("hierarchical", setting.str(), s.links, seconds_since(t0),
+            add_row("hierarchical", setting.str(), s.links.size(), seconds_since(t0),
                     vs_fine(s.tree, s.leaves, s.result.radiosity), elements, s.result.radiosity, &s);
         }
     if (interrupted_exit_code()) return interrupted_exit_code();

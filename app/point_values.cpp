@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "app/point_values.h"
 
+#include <functional>
 #include <iostream>
+#include <string>
 
 #include "app/progress_line.h"
 #include "app/signals.h"
@@ -9,33 +11,46 @@
 
 namespace bounce::app {
 
-bool gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res, const std::string& mode,
-                         bool quiet) {
+namespace {
+
+using StageProgress = std::function<void(const char*, std::size_t, std::size_t)>;
+
+/// Runs a gather with a progress line and says on stderr (unless quiet) when it was over
+/// budget; `pairs` names what the budget counted.
+bool with_progress(const std::string& mode, bool quiet,
+                   const std::function<GatherOutcome(const StageProgress&)>& gather, const std::string& pairs) {
     if (mode == "none") return false;
     ProgressLine progress(!quiet);
-    const GatherOutcome outcome = bounce::gather_point_values(
-        mesh, visibility, res, mode, &g_interrupted,
-        [&](const char* stage, std::size_t d, std::size_t t) { progress.items(stage, d, t); });
+    const GatherOutcome outcome =
+        gather([&](const char* stage, std::size_t d, std::size_t t) { progress.items(stage, d, t); });
     progress.finish();
     if (outcome == GatherOutcome::over_budget && !quiet)
-        std::cerr << "note: point data averaged, not gathered: " << mesh.mesh().n_vertices() << " vertices x "
-                  << mesh.size() << " patches is beyond the gather's budget of " << kMaxGatherPairs << " pairs\n";
+        std::cerr << "note: point data averaged, not gathered: " << pairs << " is beyond the gather's budget of "
+                  << kMaxGatherPairs << " pairs\n";
     return outcome == GatherOutcome::gathered;
+}
+
+}  // namespace
+
+bool gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res, const std::string& mode,
+                         bool quiet) {
+    return with_progress(
+        mode, quiet,
+        [&](const StageProgress& p) {
+            return bounce::gather_point_values(mesh, visibility, res, mode, &g_interrupted, p);
+        },
+        std::to_string(mesh.mesh().n_vertices()) + " vertices x " + std::to_string(mesh.size()) + " patches");
 }
 
 bool gather_point_values(const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility,
                          SolveResult& res, const std::string& mode, bool quiet) {
-    if (mode == "none") return false;
-    ProgressLine progress(!quiet);
-    const GatherOutcome outcome = bounce::gather_hierarchical_point_values(
-        solution, elements, visibility, res, mode, &g_interrupted,
-        [&](const char* stage, std::size_t d, std::size_t t) { progress.items(stage, d, t); });
-    progress.finish();
-    if (outcome == GatherOutcome::over_budget && !quiet)
-        std::cerr << "note: point data averaged, not gathered: " << elements.mesh().n_vertices()
-                  << " vertices x the links along their elements' paths is beyond the gather's budget of "
-                  << kMaxGatherPairs << " pairs\n";
-    return outcome == GatherOutcome::gathered;
+    return with_progress(
+        mode, quiet,
+        [&](const StageProgress& p) {
+            return bounce::gather_hierarchical_point_values(solution, elements, visibility, res, mode, &g_interrupted,
+                                                            p);
+        },
+        std::to_string(elements.mesh().n_vertices()) + " vertices x the links along their elements' paths");
 }
 
 }  // namespace bounce::app

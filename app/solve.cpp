@@ -106,11 +106,11 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         settings << " solver=hierarchical link_epsilon=" << h.link_epsilon << " power_epsilon=" << h.power_epsilon
                  << " link_floor=" << h.link_floor << " max_level=" << h.max_level
                  << " clustering=" << (h.clustering ? 1 : 0) << " elements=" << sol.leaves.size()
-                 << " links=" << sol.links;
-        summary << "patches " << mesh.size() << ", hierarchical: " << sol.leaves.size() << " elements, " << sol.links
-                << " links (" << 100.0 * double(sol.links) / (n * n) << "% of N^2; " << sol.cluster_links
-                << " with a cluster, " << sol.clusters << " clusters), " << res.steps << " iterations, " << res.seconds
-                << " s\n";
+                 << " links=" << sol.links.size();
+        summary << "patches " << mesh.size() << ", hierarchical: " << sol.leaves.size() << " elements, "
+                << sol.links.size() << " links (" << 100.0 * double(sol.links.size()) / (n * n) << "% of N^2; "
+                << sol.cluster_links << " with a cluster, " << sol.clusters << " clusters), " << res.steps
+                << " iterations, " << res.seconds << " s\n";
     } else {
         AdaptiveOptions a = s.adaptive_options;
         a.form_factors = s.ff;

@@ -434,7 +434,7 @@ std::shared_ptr<SolutionData> solve(
                              << " rays=" << with_default_rays(f, kRefinementRays).visibility_rays << " seed=" << seed
                              << " solver=hierarchical link_epsilon=" << link_epsilon << " max_level=" << max_level
                              << " clustering=" << (clustering ? 1 : 0) << " elements=" << sol.leaves.size()
-                             << " links=" << sol.links;
+                             << " links=" << sol.links.size();
                 } else {
                     AdaptiveOptions a;
                     a.target_error = target_error;

@@ -5,8 +5,6 @@
 #include <stdexcept>
 #include <vector>
 
-#include "solver/refinement/cluster_tree.h"
-
 namespace bounce {
 namespace {
 
@@ -25,17 +23,19 @@ LinkSources link_sources(const HierarchicalSolution& sol, const PatchMesh& eleme
     if (elements.size() != sol.leaves.size())
         throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
     // Element links per node (compressed rows).
+    // Only links between elements with a factor: the gather integrates over their polygons.
+    auto gathered = [](const HierarchicalLink& l) { return l.between_elements() && l.fab != 0.0f; };
     std::vector<std::size_t> first(n + 1, 0);
-    for (const auto& l : sol.link_list)
-        if (!ClusterTree::is_cluster(l.a) && !ClusterTree::is_cluster(l.b) && l.fab != 0.0f) {
+    for (const auto& l : sol.links)
+        if (gathered(l)) {
             ++first[l.a + 1];
             ++first[l.b + 1];
         }
     for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
     std::vector<std::uint32_t> other(first[n]);
     std::vector<std::size_t> fill(first.begin(), first.end() - 1);
-    for (const auto& l : sol.link_list)
-        if (!ClusterTree::is_cluster(l.a) && !ClusterTree::is_cluster(l.b) && l.fab != 0.0f) {
+    for (const auto& l : sol.links)
+        if (gathered(l)) {
             other[fill[l.a]++] = l.b;
             other[fill[l.b]++] = l.a;
         }

@@ -156,7 +156,7 @@ Spread point_factor_spread(const Patch& a, const Patch& b) {
     // about (r_b / d)^2 < 3% of Lambert's formula, far below the link epsilons' tens of
     // percent, and no arc tangents (Lambert's formula made the oracle most of a solve).
     static constexpr double kFar = 6.0;
-    const double far2 = kFar * kFar * circumradius(b) * circumradius(b);
+    const double rb = circumradius(b), far2 = kFar * kFar * rb * rb;
     auto at = [&](const glm::dvec3& y) {
         const glm::dvec3 x = y + 1e-4 * (a.centre - y);
         if (b.height(x) <= 0.0) return 0.0;  // behind b: b sends it nothing
@@ -430,8 +430,8 @@ void finish_result(const ElementTree& tree, const std::vector<Rgb>& B, const std
     // cluster links.
     const auto& G = tree.geometry();
     std::vector<Rgb> by_elements(tree.size());
-    for (const Link& l : out.link_list) {
-        if (ClusterTree::is_cluster(l.a) || ClusterTree::is_cluster(l.b)) continue;
+    for (const Link& l : out.links) {
+        if (!l.between_elements()) continue;
         by_elements[l.a] += B[l.b] * double(l.fab);
         by_elements[l.b] += B[l.a] * (double(l.fab) * G[l.a].area / G[l.b].area);
     }
@@ -646,7 +646,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     if (options.refine_rounds < 1) throw std::invalid_argument("hierarchical radiosity: at least one refinement round");
     const auto start = std::chrono::steady_clock::now();
     auto since_start = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0, 0, 0, 0.0, 0, {}, {}, {}};
+    HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0, 0, 0.0, 0, {}, {}, {}};
     ElementTree& tree = out.tree;
     // First estimate of B for the oracle: emission plus the ambient term (the emitted power
     // spread over all area and inter-reflected by the mean reflectance).
@@ -735,7 +735,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
                     reused.fetch_add(1, std::memory_order_relaxed);
                     continue;
                 }
-                if (!ClusterTree::is_cluster(l.a) && !ClusterTree::is_cluster(l.b)) {
+                if (l.between_elements()) {
                     links[k].fab = float(ff.pair(l.a, l.b));
                     continue;
                 }
@@ -761,9 +761,8 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         solve_links(tree, cluster_tree, links, options, tolerance, stage, B, Bc, H, res);
         if (res.status == "interrupted") break;
     }
-    for (const Link& l : links) out.cluster_links += ClusterTree::is_cluster(l.a) || ClusterTree::is_cluster(l.b);
-    out.links = links.size();
-    out.link_list = std::move(links);
+    for (const Link& l : links) out.cluster_links += !l.between_elements();
+    out.links = std::move(links);
     finish_result(tree, B, H, out);
     res.seconds = since_start();
     return out;

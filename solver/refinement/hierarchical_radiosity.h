@@ -10,6 +10,7 @@
 #include "mesh/element_tree.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/solve_result.h"
+#include "solver/refinement/cluster_tree.h"
 
 namespace bounce {
 
@@ -45,20 +46,21 @@ struct HierarchicalOptions {
 struct HierarchicalLink {
     std::uint32_t a, b;
     float fab = 0.0f;  // F_ab; F_ba = F_ab A_a / A_b (a cluster's A: its members' total area)
+    /// Both ends are elements (no cluster): the link has polygons to integrate over.
+    bool between_elements() const { return !ClusterTree::is_cluster(a) && !ClusterTree::is_cluster(b); }
 };
 
 struct HierarchicalSolution {
     ElementTree tree;
-    std::vector<std::uint32_t> leaves;        // the elements of the result
-    SolveResult result;                       // per leaf
-    std::size_t links = 0;                    // interactions, element and cluster links together
-    std::size_t cluster_links = 0;            // links with a cluster at one end or both
-    std::size_t clusters = 0;                 // clusters above the patches (0 without clustering)
-    std::size_t initial_links = 0;            // pairs refinement starts from: 1, or N (N - 1) / 2 without clustering
-    double refine_seconds = 0.0;              // building the links (form factors included), all rounds
-    std::size_t reused_links = 0;             // links whose form factor an earlier round had computed
-    std::vector<HierarchicalLink> link_list;  // the last round's links, with their form factors
-    std::vector<Rgb> node_radiosity;          // B of every tree node (a parent: its children's area-weighted mean)
+    std::vector<std::uint32_t> leaves;    // the elements of the result
+    SolveResult result;                   // per leaf
+    std::size_t cluster_links = 0;        // links with a cluster at one end or both
+    std::size_t clusters = 0;             // clusters above the patches (0 without clustering)
+    std::size_t initial_links = 0;        // pairs refinement starts from: 1, or N (N - 1) / 2 without clustering
+    double refine_seconds = 0.0;          // building the links (form factors included), all rounds
+    std::size_t reused_links = 0;         // links whose form factor an earlier round had computed
+    std::vector<HierarchicalLink> links;  // the last round's, element and cluster links, with their factors
+    std::vector<Rgb> node_radiosity;      // B of every tree node (a parent: its children's area-weighted mean)
     /// Per leaf: the irradiance that came over links with a cluster end (directly or pushed down
     /// from an ancestor); the rest came over element links, which a final gather can redo with
     /// the exact point kernel (solver/gather/hierarchical_point_values.h).

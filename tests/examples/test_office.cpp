@@ -260,9 +260,9 @@ TEST(Office, HierarchicalLinksGrowSubLinearlyWithTriangles) {
         const Rgb& e = s.result.emitted_power;
         EXPECT_NEAR((s.result.absorbed_power + s.result.escaped_power).luminance() / e.luminance(), 1.0, 1e-9);
         std::printf("office %ld triangles: %zu patches, %zu links (%zu with a cluster), escaped %.3f\n", triangles,
-                    mesh.size(), s.links, s.cluster_links, s.result.escaped_power.luminance() / e.luminance());
+                    mesh.size(), s.links.size(), s.cluster_links, s.result.escaped_power.luminance() / e.luminance());
         n.push_back(double(triangles));
-        links.push_back(double(s.links));
+        links.push_back(double(s.links.size()));
     }
     const double exponent = std::log(links.back() / links.front()) / std::log(n.back() / n.front());
     std::printf("links ~ N^%.2f\n", exponent);
