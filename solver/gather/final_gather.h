@@ -75,11 +75,12 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
                               const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 /// The mesh's vertices as gather points: each on its surface (vertices are shared only within
-/// a surface), moved 1% of the way towards the centres of the patches around it. A vertex on
-/// a contact edge (a lamp 0.1 mm below the ceiling, a block on the floor) then takes the value
-/// just inside its cells rather than the value exactly on the edge, where a layer thinner than
-/// any patch halves it; and a vertex at a corner of the room is not evaluated on another
-/// surface's edge, where the kernel is singular.
+/// a surface), moved a tenth of the way towards the centres of the patches around it, or, where
+/// that mean lies in none of them (a hole's corner), towards one of them. A vertex on a contact
+/// edge (a lamp 0.1 mm below the ceiling, a block on the floor) then takes the value inside its
+/// cells rather than the value on the edge, where a layer thinner than any patch halves it and
+/// linear interpolation would spread that over whole cells; and a vertex at a corner of the
+/// room is not evaluated on another surface's edge, where the kernel is singular.
 std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh);
 
 /// The patches' centres as gather points.

@@ -127,8 +127,9 @@ TEST(Cli, NotConvergedWithinTheShotLimitExitsThreeAndStillWrites) {
 
 TEST(Cli, DegenerateFacesAreDroppedWithAWarningNotAnError) {
     test::TempDir dir;
-    const auto scene = dir.write("d.obj", "mtllib d.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
-                                          "usemtl lamp\nf 1 2 3 4\nf 1 2 5\n");
+    const auto scene = dir.write("d.obj",
+                                 "mtllib d.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
+                                 "usemtl lamp\nf 1 2 3 4\nf 1 2 5\n");
     dir.write("d.mtl", "newmtl lamp\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
     const auto r = bounce_run("solve " + scene.string() + " -o " + (dir / "d.vtu").string());
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -185,8 +186,8 @@ TEST(Cli, FormFactorsWritesTheMatrixAndChecksIt) {
     const auto scene = dir.write("box.json", R"({"materials": {"w": {"reflectance": 0.5, "emission": 1}},
         "objects": [{"type": "box", "material": "w", "inward": true}]})");
     const auto csv = dir / "F.csv";
-    const auto r = bounce_run("form-factors " + scene.string() + " --max-edge 0.5 --method raycast --check -o " +
-                              csv.string());
+    const auto r =
+        bounce_run("form-factors " + scene.string() + " --max-edge 0.5 --method raycast --check -o " + csv.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("row sums"), std::string::npos);
     EXPECT_NE(r.out.find("reciprocity"), std::string::npos);
@@ -223,9 +224,10 @@ TEST(Cli, InfoRowSumsReportsTheDeviationOfAClosedBox) {
     double lo, mean, hi;
     const auto at = r.out.find("row-sum deviation");
     ASSERT_NE(at, std::string::npos) << r.out;
-    ASSERT_EQ(std::sscanf(r.out.c_str() + at, "row-sum deviation |sum_j F_ij - 1| (closed scenes): min %lf, mean %lf, max %lf",
-                          &lo, &mean, &hi),
-              3)
+    ASSERT_EQ(
+        std::sscanf(r.out.c_str() + at,
+                    "row-sum deviation |sum_j F_ij - 1| (closed scenes): min %lf, mean %lf, max %lf", &lo, &mean, &hi),
+        3)
         << r.out;
     EXPECT_LT(hi, 1e-6);
     EXPECT_LE(lo, mean);
@@ -263,13 +265,14 @@ TEST(Cli, ReflectanceOneInAClosedBoxIsAClearErrorOrAStatedNonConvergence) {
     test::TempDir dir;
     const auto scene = dir.write("white.json", R"({"materials": {"w": {"reflectance": 1, "emission": 1}},
         "objects": [{"type": "box", "material": "w", "inward": true}]})");
-    const auto direct = bounce_run("solve " + scene.string() + " --max-edge 0.5 --solver direct -o " +
-                                   (dir / "d.vtu").string());
+    const auto direct =
+        bounce_run("solve " + scene.string() + " --max-edge 0.5 --solver direct -o " + (dir / "d.vtu").string());
     EXPECT_EQ(direct.exit_code, 2) << direct.err;
     EXPECT_NE(direct.err.find("reflectance"), std::string::npos) << direct.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "d.vtu"));
-    const auto jacobi = bounce_run("solve " + scene.string() + " --max-edge 0.5 --solver jacobi --max-iterations 200 -o " +
-                                   (dir / "j.vtu").string());
+    const auto jacobi =
+        bounce_run("solve " + scene.string() + " --max-edge 0.5 --solver jacobi --max-iterations 200 -o " +
+                   (dir / "j.vtu").string());
     EXPECT_EQ(jacobi.exit_code, 3) << jacobi.err;
     EXPECT_NE(jacobi.err.find("may not converge"), std::string::npos) << jacobi.err;
     EXPECT_EQ(jacobi.out.find("nan"), std::string::npos) << jacobi.out;
@@ -330,9 +333,9 @@ TEST(Cli, InterruptingTheDirectSolverActsWithinTwoSecondsAndTheFileSaysSo) {
     // the times of the signal and of the exit in nanoseconds.
     test::TempDir dir;
     const auto out = dir / "direct.vtu";
-    const auto r = test::run("sh -c '" + kExe + " solve --solver direct --form-factors analytic --patches 4000 -q --ascii -o " +
-                             out.string() +
-                             " & pid=$!; sleep 12; date +%s%N; kill -INT $pid; wait $pid; code=$?; date +%s%N; exit $code'");
+    const auto r = test::run(
+        "sh -c '" + kExe + " solve --solver direct --form-factors analytic --patches 4000 -q --ascii -o " +
+        out.string() + " & pid=$!; sleep 12; date +%s%N; kill -INT $pid; wait $pid; code=$?; date +%s%N; exit $code'");
     EXPECT_EQ(r.exit_code, 130) << r.err;
     std::istringstream times(r.out);
     long long sent = 0, done = 0;
@@ -371,7 +374,7 @@ TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
         {"--sor 3 --solver gauss-seidel", "error: --sor: out of range, got 3 (expected 0 to 2)"},
         {"--solver hierarchical --power-epsilon nan", "error: --power-epsilon:"},  // a share of the power
         {"--solver hierarchical --power-epsilon 2", "error: --power-epsilon: out of range, got 2"},
-        {"--max-area 1e-6", "1.93745e+12 patches"},                       // ~10^12 patches
+        {"--max-area 1e-6", "1.93745e+12 patches"},  // ~10^12 patches
         {"--hemicube-res 1000000 --form-factors hemicube", "--hemicube-res"},
         {"--form-factors hemicube --hemicube-res 4096 --max-memory 100", "hemicube buffers"},
         {"--max-area 4000 --max-memory 1 --solver jacobi", "form-factor matrix ("},
@@ -391,7 +394,8 @@ TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
 TEST(Cli, StrictTurnsGeometryWarningsIntoErrors) {
     test::TempDir dir;
     dir.write("z.mtl", "newmtl w\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
-    const auto scene = dir.write("z.obj", "mtllib z.mtl\nusemtl w\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
+    const auto scene =
+        dir.write("z.obj", "mtllib z.mtl\nusemtl w\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
     const auto r = bounce_run("solve " + scene.string() + " --strict -o " + (dir / "z.vtu").string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_EQ(lines(r.err), 1) << r.err;
@@ -423,14 +427,16 @@ TEST(Cli, VisibilityBackendsGiveTheSameSolution) {
 
 TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
     test::TempDir dir;
-    const auto a = bounce_run("solve --adaptive --patches 60 --target-error 0.1 --ascii -o " + (dir / "a.vtu").string());
+    const auto a =
+        bounce_run("solve --adaptive --patches 60 --target-error 0.1 --ascii -o " + (dir / "a.vtu").string());
     ASSERT_EQ(a.exit_code, 0) << a.err;
     EXPECT_NE(a.out.find("adaptive:"), std::string::npos) << a.out;
     // Elements with a finer neighbour carry its vertices: VTK polygons (type 7).
     const std::string text = slurp(dir / "a.vtu");
     const auto at = text.find("Name=\"types\"");
     ASSERT_NE(at, std::string::npos);
-    const std::string types = text.substr(text.find('>', at) + 1, text.find("</DataArray>", at) - text.find('>', at) - 1);
+    const std::string types =
+        text.substr(text.find('>', at) + 1, text.find("</DataArray>", at) - text.find('>', at) - 1);
     EXPECT_NE(types.find('7'), std::string::npos) << "no polygon cells";
     EXPECT_NE(types.find('9'), std::string::npos) << "no quad cells";
     const auto h = bounce_run("solve --solver hierarchical --max-level 2 -o " + (dir / "h.vtu").string());
@@ -495,8 +501,10 @@ TEST(Cli, DiscontinuityMeshingSolvesAndABadChoiceIsOneLine) {
     EXPECT_NE(bad.err.find("--meshing"), std::string::npos) << bad.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "b.vtu"));
     // A cap of one boundary per surface is reached and said once.
-    const auto capped = bounce_run("solve --meshing discontinuity --max-discontinuities 1 --max-area 4000 "
-                                   "--gather none -o " + (dir / "c.vtu").string());
+    const auto capped = bounce_run(
+        "solve --meshing discontinuity --max-discontinuities 1 --max-area 4000 "
+        "--gather none -o " +
+        (dir / "c.vtu").string());
     ASSERT_EQ(capped.exit_code, 0) << capped.err;
     EXPECT_EQ(lines(capped.err), 1) << capped.err;
     EXPECT_NE(capped.err.find("warning: discontinuity meshing: kept the 1 longest"), std::string::npos) << capped.err;
@@ -506,11 +514,12 @@ TEST(Cli, FacesWoundTheWrongWayAreReportedAndFlipTurnsThemBack) {
     // A closed 4 x 3 x 4 room lit by a lamp under the ceiling, and the same file with every
     // face's vertices reversed (the most common OBJ mistake).
     test::TempDir dir;
-    dir.write("room.mtl", "newmtl white\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.6 0.1 0.1\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
+    dir.write("room.mtl",
+              "newmtl white\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.6 0.1 0.1\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
     const std::string vertices =
         "mtllib room.mtl\nv 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nv 0 3 0\nv 4 3 0\nv 4 3 4\nv 0 3 4\n"
         "v 1.5 2.99 1.5\nv 2.5 2.99 1.5\nv 2.5 2.99 2.5\nv 1.5 2.99 2.5\n";
-    const std::vector<std::string> faces = {"usemtl white", "f 1 4 3 2", "f 5 6 7 8", "f 1 2 6 5", "f 4 8 7 3",
+    const std::vector<std::string> faces = {"usemtl white", "f 1 4 3 2",  "f 5 6 7 8", "f 1 2 6 5",   "f 4 8 7 3",
                                             "f 2 3 7 6",    "usemtl red", "f 1 5 8 4", "usemtl lamp", "f 9 10 11 12"};
     std::string right = vertices, wrong = vertices;
     for (const auto& f : faces) {
@@ -563,7 +572,8 @@ TEST(Cli, FacesWoundTheWrongWayAreReportedAndFlipTurnsThemBack) {
 TEST(Cli, ViewWithoutADisplayIsAClearErrorAtOnce) {
     // Before: an invisible window on a private Xvfb, and a hang with no message.
     const auto start = std::chrono::steady_clock::now();
-    const auto r = test::run("env -u DISPLAY timeout 10 " + kExe + " view " + test::fixture("cornell_box.obj").string());
+    const auto r =
+        test::run("env -u DISPLAY timeout 10 " + kExe + " view " + test::fixture("cornell_box.obj").string());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_LT(seconds, 2.0);
@@ -583,7 +593,8 @@ TEST(Cli, TheFirstHourPapercuts) {
         << unknown.err;
     // --help shows the defaults of the form-factor options.
     const auto help = bounce_run("solve --help");
-    for (const std::string d : {"pair (raycast; 2, with --adaptive or the hierarchical solver 4)", "adaptive (0)", "even (256)", "rotations (1)", "(MB; 2048)"})
+    for (const std::string d : {"pair (raycast; 2, with --adaptive or the hierarchical solver 4)", "adaptive (0)",
+                                "even (256)", "rotations (1)", "(MB; 2048)"})
         EXPECT_NE(help.out.find(d), std::string::npos) << d;
     // .off given directly loads (white 0.5, with a warning: the format has no materials).
     const auto off = dir.write("tri.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
@@ -627,12 +638,14 @@ TEST(Cli, ShootingWarnsWhenTheRowsItShotSumAboveOne) {
     const auto good = bounce_run("solve " + scene.string() + " --patches 216 -o " + (dir / "a.vtu").string());
     ASSERT_EQ(good.exit_code, 0) << good.err;
     EXPECT_EQ(good.err.find("warning"), std::string::npos) << good.err;
-    const auto bad = bounce_run("solve " + scene.string() + " --patches 216 --form-factors hemicube --hemicube-res 16 -o " +
-                                (dir / "b.vtu").string());
+    const auto bad =
+        bounce_run("solve " + scene.string() + " --patches 216 --form-factors hemicube --hemicube-res 16 -o " +
+                   (dir / "b.vtu").string());
     ASSERT_EQ(bad.exit_code, 0) << bad.err;
     const auto at = bad.err.find("warning: the form-factor rows of the shots sum to 1 + ");
     ASSERT_NE(at, std::string::npos) << bad.err;
-    const double surplus = std::stod(bad.err.substr(at + std::string("warning: the form-factor rows of the shots sum to 1 + ").size()));
+    const double surplus =
+        std::stod(bad.err.substr(at + std::string("warning: the form-factor rows of the shots sum to 1 + ").size()));
     EXPECT_GT(surplus, 1e-3);
     EXPECT_LT(surplus, 1e-2);
     EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1);

@@ -41,7 +41,8 @@ TEST(CliReference, ProbesAreEstimatedToTheTargetAndRepeatExactly) {
     const auto r = bounce_run("reference --probes 24 --target-error 0.02 --seed 5 -o " + a.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.err, "");
-    ASSERT_EQ(bounce_run("reference --probes 24 --target-error 0.02 --seed 5 --threads 1 -q -o " + b.string()).exit_code, 0);
+    ASSERT_EQ(
+        bounce_run("reference --probes 24 --target-error 0.02 --seed 5 --threads 1 -q -o " + b.string()).exit_code, 0);
     EXPECT_EQ(slurp(a), slurp(b));  // same seed, same numbers, on any thread count
     const CsvTable t = read_csv(a);
     EXPECT_EQ(t.header, (std::vector<std::string>{"x", "y", "z", "nx", "ny", "nz", "B_r", "B_g", "B_b", "se_r", "se_g",
@@ -61,9 +62,10 @@ TEST(CliReference, PointsAreSnappedOrRefusedByRow) {
     test::TempDir dir;
     // Cornell box (mm): a point 1 mm above the floor, one 1 mm in front of the back wall, and a
     // label column that must be copied through, quoted.
-    const auto good = dir.write("good.csv", "label,x,y,z,nx,ny,nz\n"
-                                            "\"floor, front\",300,1,100,0,1,0\n"
-                                            "back,280,300,558.2,0,0,-1\n");
+    const auto good = dir.write("good.csv",
+                                "label,x,y,z,nx,ny,nz\n"
+                                "\"floor, front\",300,1,100,0,1,0\n"
+                                "back,280,300,558.2,0,0,-1\n");
     const auto out = dir / "out.csv";
     const auto r = bounce_run("reference --points " + good.string() + " --target-error 0.03 -q -o " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -102,8 +104,8 @@ TEST(CliReference, PointsAreSnappedOrRefusedByRow) {
 TEST(CliReference, CtrlCWritesWhatItHasFlagged) {
     test::TempDir dir;
     const auto out = dir / "int.csv";
-    const auto r = test::run("bash -c '" + kExe + " reference --probes 400 --target-error 0.0005 -q -o " + out.string() +
-                             " & pid=$!; sleep 2; kill -INT $pid; wait $pid; exit $?'");
+    const auto r = test::run("bash -c '" + kExe + " reference --probes 400 --target-error 0.0005 -q -o " +
+                             out.string() + " & pid=$!; sleep 2; kill -INT $pid; wait $pid; exit $?'");
     EXPECT_EQ(r.exit_code, 130) << r.err;
     ASSERT_TRUE(std::filesystem::exists(out)) << r.err;
     const auto points = read_reference(out);
@@ -198,8 +200,8 @@ TEST(CliReference, CompareCachesItsOwnProbesAndScoresEveryRun) {
     // Shooting to 1e-3 unshot and the direct solution are the same discrete answer: same score.
     EXPECT_NEAR(a[0], a[1], 0.01);
     EXPECT_GT(a[0], 0.01);
-    const auto again = bounce_run("compare --max-area 20000 --form-factors raycast --solvers shooting --out " +
-                                  dir.path().string());
+    const auto again =
+        bounce_run("compare --max-area 20000 --form-factors raycast --solvers shooting --out " + dir.path().string());
     ASSERT_EQ(again.exit_code, 0) << again.err;
     EXPECT_NE(again.out.find("(cached)"), std::string::npos) << again.out;
 }
@@ -217,7 +219,7 @@ TEST(CliReference, InfoReportsTheAreaLeftOutByContactCuts) {
     const auto r = bounce_run("info");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NEAR(removed(r.out, "cornell box: ceiling"), 130.0 * 105.0, 1e-6);  // behind the light
-    EXPECT_GT(removed(r.out, "cornell box: floor"), 50000.0);                    // both footprints
+    EXPECT_GT(removed(r.out, "cornell box: floor"), 50000.0);                  // both footprints
     EXPECT_EQ(removed(r.out, "cornell box: back wall"), 0.0);
     const auto whole = bounce_run("info --no-contact-cuts");
     ASSERT_EQ(whole.exit_code, 0) << whole.err;

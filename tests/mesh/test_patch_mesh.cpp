@@ -154,8 +154,8 @@ TEST(PatchMesh, ElementsThatDoNotFormOneFanGetPointsOfTheirOwnWithOneWarning) {
     // office's contact-cut elements, aborted on an assertion in its patch re-linking; the mesh
     // gives each fan around such a point a copy of it instead. Point 0 and point 1 each lie in
     // three fans (2 copies each), point 2 in two (1 copy): 7 + 5 points.
-    const std::vector<glm::dvec3> points = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1},
-                                            {1, 2, 0}, {0, 2, 0}};
+    const std::vector<glm::dvec3> points = {{0, 0, 0},   {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0},
+                                            {0.5, 0, 1}, {1, 2, 0}, {0, 2, 0}};
     const std::vector<std::vector<std::uint32_t>> faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}, {2, 5, 6}};
     std::vector<Patch> patches;
     for (const auto& f : faces) {

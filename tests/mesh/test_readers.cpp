@@ -61,7 +61,8 @@ TEST(ObjReader, LoadsTheCornellFixtureWithItsQuirks) {
 
 TEST(ObjReader, FacesWithoutMaterialAreWhiteHalfWithAWarning) {
     test::TempDir dir;
-    const auto f = dir.write("plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\r\n\tf 1 2 3 4\nf -4/1/1 -3/2/2 -2/3/3\n");
+    const auto f =
+        dir.write("plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\r\n\tf 1 2 3 4\nf -4/1/1 -3/2/2 -2/3/3\n");
     const Scene s = read_obj(f);
     ASSERT_EQ(s.surfaces.size(), 2u);
     EXPECT_EQ(s.materials[s.surfaces[0].material].reflectance, Rgb::gray(0.5));
@@ -87,10 +88,12 @@ TEST(ObjReader, BadInputNamesFileAndLine) {
     expect_input_error([&] { read_obj(num); }, {"num.obj:2", "bad number"});
     dir.write("bad.mtl", "newmtl m\nKd 1.5 0.2 0.2\n");
     const auto kd = dir.write("kd.obj", "mtllib bad.mtl\nv 0 0 0\n");
-    expect_input_error([&] { read_obj(kd); }, {"bad.mtl:2", "reflectance Kd out of range, got", "(expected 0 to 1 per channel)"});
+    expect_input_error([&] { read_obj(kd); },
+                       {"bad.mtl:2", "reflectance Kd out of range, got", "(expected 0 to 1 per channel)"});
     dir.write("neg.mtl", "newmtl m\nKe -1 0 0\n");
     const auto ke = dir.write("ke.obj", "mtllib neg.mtl\n");
-    expect_input_error([&] { read_obj(ke); }, {"neg.mtl:2", "emission Ke out of range, got (-1, 0, 0) (expected >= 0 per channel)"});
+    expect_input_error([&] { read_obj(ke); },
+                       {"neg.mtl:2", "emission Ke out of range, got (-1, 0, 0) (expected >= 0 per channel)"});
     expect_input_error([&] { read_obj(dir / "missing.obj"); }, {"missing.obj", "not found"});
     expect_input_error([&] { read_obj(dir.path()); }, {"directory"});
     const auto bin = dir.write("bin.obj", std::string("v 0 0 0\n\0\x01\x02", 11));
@@ -102,8 +105,7 @@ TEST(ObjReader, BadInputNamesFileAndLine) {
 
 TEST(GeometryCheck, DegenerateFacesAreDroppedWithAWarningNamingTheLine) {
     test::TempDir dir;
-    const auto f = dir.write("deg.obj",
-                             "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 2\n");
+    const auto f = dir.write("deg.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 2\n");
     const Scene s = load_scene(f.string());
     EXPECT_EQ(s.surfaces.size(), 1u);
     int degenerate = 0;

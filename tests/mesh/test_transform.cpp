@@ -16,9 +16,9 @@ TEST(Transform, NormalsOfAShearedNonUniformlyScaledBoxStayPerpendicular) {
     m[1][0] = 0.7;   // x += 0.7 y (shear)
     m[2][1] = -0.4;  // y -= 0.4 z
     const Transform t = Transform(m) * Transform::scale({3.0, 0.5, 2.0});
-    const std::vector<std::vector<V>> faces = {
-        {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}, {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}},
-        {{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}}};
+    const std::vector<std::vector<V>> faces = {{{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}},
+                                               {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}},
+                                               {{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}}};
     for (const auto& f : faces) {
         const V n0 = glm::normalize(newell_normal(f));
         const V n = t.normal(n0);
@@ -38,10 +38,10 @@ TEST(Transform, NormalsOfAShearedNonUniformlyScaledBoxStayPerpendicular) {
 
 TEST(Transform, JsonBoxKeepsOutwardFacesUnderShearScaleAndMirror) {
     test::TempDir dir;
-    for (const std::string tr : {
-             R"({"scale": [3, 0.5, 2], "rotate": {"axis": [1, 2, 3], "degrees": 40}, "translate": [5, 6, 7]})",
-             R"({"matrix": [1, 0.7, 0, 5,  0, 1, -0.4, 6,  0, 0, 2, 7,  0, 0, 0, 1]})",
-             R"({"scale": [-1, 2, 1], "translate": [5, 6, 7]})"}) {
+    for (const std::string tr :
+         {R"({"scale": [3, 0.5, 2], "rotate": {"axis": [1, 2, 3], "degrees": 40}, "translate": [5, 6, 7]})",
+          R"({"matrix": [1, 0.7, 0, 5,  0, 1, -0.4, 6,  0, 0, 2, 7,  0, 0, 0, 1]})",
+          R"({"scale": [-1, 2, 1], "translate": [5, 6, 7]})"}) {
         const auto file = dir.write("box.json", R"({"objects": [{"type": "box", "transform": )" + tr + "}]}");
         const Scene s = read_json_scene(file);
         ASSERT_EQ(s.surfaces.size(), 6u);

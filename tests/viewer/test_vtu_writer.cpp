@@ -82,7 +82,9 @@ TEST(VtuWriter, ReadsBackWithEveryArrayAndTheEnergyBalanceHoldsFromTheFile) {
         EXPECT_EQ(g->GetPointData()->GetArray("radiosity")->GetNumberOfTuples(), g->GetNumberOfPoints());
         // Text fields are string arrays (ParaView shows them as text), one value each.
         for (const auto& [name, value] : {std::pair<const char*, std::string>{"solver", "shooting"},
-                                          {"scene", "cornell"}, {"settings", "test"}, {"status", s.result.status}}) {
+                                          {"scene", "cornell"},
+                                          {"settings", "test"},
+                                          {"status", s.result.status}}) {
             auto* text = vtkStringArray::SafeDownCast(g->GetFieldData()->GetAbstractArray(name));
             ASSERT_NE(text, nullptr) << name;
             ASSERT_EQ(text->GetNumberOfValues(), 1) << name;
@@ -109,8 +111,8 @@ TEST(VtuWriter, ReadsBackWithEveryArrayAndTheEnergyBalanceHoldsFromTheFile) {
             EXPECT_LT(worst, 1e-12);
             EXPECT_NEAR(emitted / field(g, "emitted_power", c), 1.0, 1e-12);
             EXPECT_NEAR(absorbed / field(g, "absorbed_power", c), 1.0, 1e-9);
-            const double balance = field(g, "absorbed_power", c) + field(g, "escaped_power", c) +
-                                   field(g, "unshot_power", c);
+            const double balance =
+                field(g, "absorbed_power", c) + field(g, "escaped_power", c) + field(g, "unshot_power", c);
             EXPECT_NEAR(balance / emitted, 1.0, 1e-9);
         }
         EXPECT_EQ(field(g, "converged"), 1.0);

@@ -61,10 +61,9 @@ double asymmetric_blocker_exact() {
                     const double y = ys[cy] + gx[b] * (ys[cy + 1] - ys[cy]);
                     const double w = gw[a] * gw[b] * (xs[cx + 1] - xs[cx]) * (ys[cy + 1] - ys[cy]);
                     const double full = point_to_rectangle(x, y, 0, 1, 0, 1, 1);
-                    const double hidden = point_to_rectangle(x, y, std::max(0.0, shadow(x, 0.1)),
-                                                             std::min(1.0, shadow(x, 0.6)),
-                                                             std::max(0.0, shadow(y, 0.2)),
-                                                             std::min(1.0, shadow(y, 0.55)), 1);
+                    const double hidden =
+                        point_to_rectangle(x, y, std::max(0.0, shadow(x, 0.1)), std::min(1.0, shadow(x, 0.6)),
+                                           std::max(0.0, shadow(y, 0.2)), std::min(1.0, shadow(y, 0.55)), 1);
                     total += w * (full - hidden);
                 }
     return total;
@@ -189,8 +188,12 @@ TEST(ExactFormFactor, CubeRowsSumToOneAndAreReciprocal) {
 TEST(ExactFormFactor, DefaultSettingsMatchEveryRectangleTableTo1e9OnWholeSurfaces) {
     // The method's own default tolerance (1e-8, a stopping threshold on successive orders that
     // overestimates the error) still meets 1e-9 on every rectangle of VALIDATION.md.
-    for (auto [a, b, c] : {std::tuple{1.0, 1.0, 1.0}, {2.0, 1.0, 1.0}, {1.0, 1.0, 0.5}, {1.0, 1.0, 2.0},
-                           {1.0, 1.0, 0.01}, {1.0, 1.0, 0.001}}) {
+    for (auto [a, b, c] : {std::tuple{1.0, 1.0, 1.0},
+                           {2.0, 1.0, 1.0},
+                           {1.0, 1.0, 0.5},
+                           {1.0, 1.0, 2.0},
+                           {1.0, 1.0, 0.01},
+                           {1.0, 1.0, 0.001}}) {
         const PatchMesh mesh(parallel_pair(a, b, c), MeshingOptions{.subdivide = false});
         const ExactFormFactor ff(mesh.patches(), true, {});
         EXPECT_LT(std::abs(ff.pair(0, 1) / parallel_rectangles(a, b, c) - 1), 1e-9) << a << " " << b << " " << c;

@@ -80,8 +80,7 @@ TEST(PointPolygon, DiskAboveAPointIsRSquaredOverRSquaredPlusHSquared) {
 TEST(PointPolygon, PointBelowARectangleCornerMatchesTheClosedForm) {
     for (auto [a, b, c] : {std::tuple{1.0, 1.0, 1.0}, {2.0, 0.5, 0.3}, {0.1, 3.0, 2.0}}) {
         const std::vector<V> rect = {{0, 0, c}, {0, b, c}, {a, b, c}, {a, 0, c}};
-        EXPECT_NEAR(point_polygon_form_factor({0, 0, 0}, {0, 0, 1}, rect), point_to_rectangle_corner(a, b, c),
-                    1e-12);
+        EXPECT_NEAR(point_polygon_form_factor({0, 0, 0}, {0, 0, 1}, rect), point_to_rectangle_corner(a, b, c), 1e-12);
     }
 }
 

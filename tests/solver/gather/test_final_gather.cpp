@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <string>
 
 #include "mesh/patch_mesh.h"
 #include "mesh/scene_loader.h"
@@ -114,4 +115,62 @@ TEST(FinalGather, FurnaceWithTheGaussRuleWithinItsTolerance) {
     for (const Rgb& b : g) worst = std::max(worst, std::abs(b.g - 2.0));
     std::cout << "furnace: largest |B - 2| " << worst << "\n";
     EXPECT_LE(worst, 2.0 * 1e-4);
+}
+
+// The box's ceiling meshed whole (one patch per piece, as the hierarchical solver's coarse
+// patches are) has long triangles fanned from the lamp hole's corners, where the ceiling fills
+// three quarters of a turn. Every vertex's gather point must stay on its surface, within one
+// of its own cells (the mean of the cells' centres was over the lamp there), and the hole's
+// corners, lit by the same room as the ceiling beside them, must gather alike: the lamp's back
+// 0.1 below the ceiling shades only a layer of that width, not the corner's cells.
+TEST(FinalGather, VerticesAtTheLampHolesCornersStayOnTheCeiling) {
+    const Scene scene = load_scene("cornell");
+    for (const std::size_t target : {0, 30, 60}) {
+        SCOPED_TRACE("target patches " + std::to_string(target));
+        MeshingOptions o;
+        o.subdivide = target > 0;
+        o.target_patches = target;
+        const PatchMesh m(scene, o);
+        const auto vis = make_visibility("embree", m.patches());
+        const auto points = vertex_gather_points(m);
+        auto within = [](const Patch& p, const V& x) {
+            for (int k = 0; k < p.vertex_count; ++k) {
+                const V u = p.vertices[k], w = p.vertices[(k + 1) % p.vertex_count];
+                if (glm::dot(glm::cross(w - u, x - u), p.normal) < -1e-9 * p.area) return false;
+            }
+            return std::abs(p.height(x)) < 1e-9 * std::sqrt(p.area);
+        };
+        std::vector<char> on_a_cell(points.size(), 0);
+        for (std::size_t i = 0; i < m.size(); ++i)
+            for (const int v : m.patch_vertex_indices(i))
+                if (within(m.patches()[i], points[std::size_t(v)].position)) on_a_cell[std::size_t(v)] = 1;
+        std::vector<char> used(points.size(), 0);  // a vertex no cell uses (under a block) gathers nothing
+        for (std::size_t i = 0; i < m.size(); ++i)
+            for (const int v : m.patch_vertex_indices(i)) used[std::size_t(v)] = 1;
+        for (std::size_t v = 0; v < points.size(); ++v) ASSERT_TRUE(on_a_cell[v] || !used[v]) << "vertex " << v;
+
+        // Every surface alike: only what each point sees counts. Each corner of the hole against
+        // a point of the ceiling 20 mm out from it diagonally, beyond the lamp's shade.
+        std::vector<Rgb> B(m.size(), Rgb::gray(1.0));
+        std::vector<GatherPoint> at;
+        const auto& om = m.mesh();
+        for (std::size_t v = 0; v < points.size(); ++v) {
+            const auto q = om.point(OpenMesh::VertexHandle(int(v)));
+            const bool corner = std::abs(q[1] - 548.8) < 1e-6 && used[v] && points[v].emission.max() == 0 &&
+                                (std::abs(q[0] - 213) < 1e-6 || std::abs(q[0] - 343) < 1e-6) &&
+                                (std::abs(q[2] - 227) < 1e-6 || std::abs(q[2] - 332) < 1e-6);
+            if (!corner) continue;
+            at.push_back(points[v]);
+            GatherPoint out = points[v];
+            out.position = V(q[0] + (q[0] > 278 ? 20 : -20), q[1], q[2] + (q[2] > 279.5 ? 20 : -20));
+            at.push_back(out);
+        }
+        ASSERT_EQ(at.size(), 8u);
+        const auto g = final_gather(m.patches(), B, *vis, at);
+        for (std::size_t k = 0; k < at.size(); k += 2) {
+            std::cout << "corner " << at[k].position.x << ", " << at[k].position.z << ": " << g[k].g << " against "
+                      << g[k + 1].g << " 20 mm out\n";
+            EXPECT_NEAR(g[k].g / g[k + 1].g, 1.0, 0.1) << "corner " << k / 2;
+        }
+    }
 }

@@ -98,8 +98,8 @@ TEST(HierarchicalPointValues, ClusteredFurnaceVerticesGatherEOverOneMinusRho) {
     const auto [centre_rms, centre_worst] = deviation(res.gathered_centres);
     double from_clusters = 0.0;
     for (const Rgb& e : sol.cluster_irradiance) from_clusters = std::max(from_clusters, e.g);
-    std::cout << "furnace: " << sol.leaves.size() << " elements, " << sol.links.size() << " links (" << sol.cluster_links
-              << " with a cluster), largest cluster irradiance " << from_clusters
+    std::cout << "furnace: " << sol.leaves.size() << " elements, " << sol.links.size() << " links ("
+              << sol.cluster_links << " with a cluster), largest cluster irradiance " << from_clusters
               << " of 2; |B - 2| RMS / worst: solve " << solve_rms << " / " << solve_worst << ", vertices "
               << vertex_rms << " / " << vertex_worst << ", centres " << centre_rms << " / " << centre_worst << "\n";
     EXPECT_GT(from_clusters, 0.1);  // the cluster part is tested, not absent

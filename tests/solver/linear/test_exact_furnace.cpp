@@ -171,8 +171,8 @@ TEST(ClosedScenes, DefaultMethodCubeRowsSumToOneAndAreReciprocal) {
             for (std::size_t j = 0; j < P.size(); ++j) {
                 const double fij = ff.pair(i, j);
                 if (fij > 0)
-                    worst_recip = std::max(worst_recip, std::abs(P[i].area * fij - P[j].area * ff.pair(j, i)) /
-                                                            (P[i].area * fij));
+                    worst_recip = std::max(worst_recip,
+                                           std::abs(P[i].area * fij - P[j].area * ff.pair(j, i)) / (P[i].area * fij));
             }
         std::printf("cube %dx%d, raycast: worst |row sum - 1| %.3g, reciprocity %.3g\n", n, n, worst, worst_recip);
         EXPECT_LT(worst, 1e-6) << n;
@@ -213,10 +213,10 @@ TEST(ClosedScenes, ClosedCornellBoxRowsWithin1e4AndFurnaceWithin0Point1Percent) 
     const auto F = FormFactorMatrix::build(exact, P.size(), std::size_t(1) << 30);
     const PairTally t = exact.tally();
     const double rows = worst_deviation(F.row_sums());
-    std::printf("closed cornell box, %zu patches, exact: worst |row sum - 1| %.3g (%llu unoccluded, %llu partial, "
-                "%llu hidden pairs)\n",
-                P.size(), rows, (unsigned long long)t.unoccluded, (unsigned long long)t.partial,
-                (unsigned long long)t.hidden);
+    std::printf(
+        "closed cornell box, %zu patches, exact: worst |row sum - 1| %.3g (%llu unoccluded, %llu partial, "
+        "%llu hidden pairs)\n",
+        P.size(), rows, (unsigned long long)t.unoccluded, (unsigned long long)t.partial, (unsigned long long)t.hidden);
     EXPECT_LT(rows, 1e-4);
     EXPECT_GT(t.partial, 0u);
     expect_furnace(P, F, "closed cornell box, exact", {"gauss-seidel", "shooting"}, 10.0, 1e-3);

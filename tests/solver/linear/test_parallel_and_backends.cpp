@@ -6,8 +6,8 @@
 #include <map>
 #include <random>
 
-#include <glm/geometric.hpp>
 #include <tbb/global_control.h>
+#include <glm/geometric.hpp>
 
 #include "mesh/patch_mesh.h"
 #include "mesh/scene_loader.h"
@@ -71,7 +71,8 @@ std::vector<Ray> ray_set(const std::vector<Patch>& P, double eps) {
                 // Across the shared edge from centre to centre, skimming ten offsets above it
                 // (open, unless a block stands on the floor there).
                 const Patch& q = P[it->second];
-                rays.push_back({p.centre + 10 * eps * p.normal, q.centre + 10 * eps * p.normal, -1, "skimming a shared edge"});
+                rays.push_back(
+                    {p.centre + 10 * eps * p.normal, q.centre + 10 * eps * p.normal, -1, "skimming a shared edge"});
             } else {
                 edges.emplace(e, i);
             }
@@ -85,9 +86,10 @@ std::vector<Ray> ray_set(const std::vector<Patch>& P, double eps) {
             // mirror image, which climbs away and misses.
             const glm::dvec3 t = glm::normalize(p.vertices[1] - p.vertices[0]);
             const double run = 0.45 * size, drop = 1e-3 * run;
-            rays.push_back({p.centre - run * t + drop * p.normal, p.centre + run * t - drop * p.normal, known, "grazing hit"});
-            rays.push_back({p.centre - run * t + 2 * drop * p.normal, p.centre + run * t + 4 * drop * p.normal, known < 0 ? -1 : 0,
-                            "grazing miss"});
+            rays.push_back(
+                {p.centre - run * t + drop * p.normal, p.centre + run * t - drop * p.normal, known, "grazing hit"});
+            rays.push_back({p.centre - run * t + 2 * drop * p.normal, p.centre + run * t + 4 * drop * p.normal,
+                            known < 0 ? -1 : 0, "grazing miss"});
             // Ending one offset in front of the surface, like every solver ray.
             rays.push_back({p.centre + 0.3 * size * p.normal, p.centre + eps * p.normal, known < 0 ? -1 : 0,
                             "ending an offset short"});
@@ -103,8 +105,8 @@ std::vector<Ray> ray_set(const std::vector<Patch>& P, double eps) {
         rays.push_back({in_box(), in_box(), -1, "random in the box"});
         const Patch& p = P[rng() % P.size()];
         const Patch& q = P[rng() % P.size()];
-        rays.push_back({patch_point(p, U(rng), U(rng)) + eps * p.normal, patch_point(q, U(rng), U(rng)) + eps * q.normal,
-                        -1, "patch to patch"});
+        rays.push_back({patch_point(p, U(rng), U(rng)) + eps * p.normal,
+                        patch_point(q, U(rng), U(rng)) + eps * q.normal, -1, "patch to patch"});
     }
     return rays;
 }
@@ -215,7 +217,7 @@ TEST(Reciprocity, RaycastMatrixIsReciprocalToRoundingAndBorrowingRowsChangesNoth
             }
         }
     EXPECT_GT(compared, P.size() * P.size() / 8);  // of the N^2/2 pairs, most see each other
-    EXPECT_LT(worst, 1e-6);  // float storage: a few ulps
+    EXPECT_LT(worst, 1e-6);                        // float storage: a few ulps
     // A row computed whole equals the matrix row built from the upper triangle and mirrored.
     std::vector<float> row(P.size());
     for (const std::size_t i : {std::size_t(0), P.size() / 2, P.size() - 1}) {

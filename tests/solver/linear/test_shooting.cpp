@@ -27,7 +27,8 @@ TEST(ShootingSolver, FurnaceGivesEOverOneMinusRho) {
         double worst = 0;
         for (const auto& b : r.radiosity)
             for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(b[c] / ((c + 1) / (1 - rho)) - 1));
-        std::printf("furnace rho %.2f: %zu patches, %zu shots, worst relative error %.3g\n", rho, mesh.size(), r.steps, worst);
+        std::printf("furnace rho %.2f: %zu patches, %zu shots, worst relative error %.3g\n", rho, mesh.size(), r.steps,
+                    worst);
         // Row-sum errors are amplified by 1/(1-rho); measured 3.2e-5 (0.5) and 1.4e-4 (0.9).
         EXPECT_LT(worst, rho == 0.5 ? 1e-4 : 5e-4);
     }

@@ -110,8 +110,8 @@ TEST(Solvers, FurnaceConvergesToEOverOneMinusRhoLikeRhoToTheK) {
         EXPECT_LE(gs.steps, jacobi.steps) << rho;
         // Shooting: each shot drains one patch, so about n shots per Jacobi sweep.
         EXPECT_LE(shooting.steps, 17 * (bound + 3)) << rho;
-        std::printf("furnace rho %.2f: bound %zu, jacobi %zu sweeps, gauss-seidel %zu, shooting %zu shots\n", rho, bound,
-                    jacobi.steps, gs.steps, shooting.steps);
+        std::printf("furnace rho %.2f: bound %zu, jacobi %zu sweeps, gauss-seidel %zu, shooting %zu shots\n", rho,
+                    bound, jacobi.steps, gs.steps, shooting.steps);
     }
 }
 

@@ -43,7 +43,8 @@ TEST(PathTracer, FurnaceReturnsEOverOneMinusRho) {
             EXPECT_EQ(e.status, EstimateStatus::converged);
             for (int c = 0; c < 3; ++c) {
                 const double exact = Rgb(1.0, 2.0, 0.5)[c] / (1 - rho);
-                EXPECT_NEAR(e.radiosity[c], exact, 3 * e.standard_error[c]) << "rho " << rho << " point " << k << " channel " << c;
+                EXPECT_NEAR(e.radiosity[c], exact, 3 * e.standard_error[c])
+                    << "rho " << rho << " point " << k << " channel " << c;
                 EXPECT_LE(e.standard_error[c], 0.01 * exact);
                 EXPECT_GT(e.standard_error[c], 0.0);
             }
@@ -71,8 +72,9 @@ TEST(PathTracer, DirectLightIsRhoETimesPointToPolygonFactor) {
     }
     // Under the lamp's centre, the closed form of a point below the centre of a square of side
     // a at height h (the square as four right triangles): 0.238…, checked against the kernel too.
-    const double a = 0.5, h = 1.0, closed = 4 / std::numbers::pi * (a / std::sqrt(a * a + h * h)) *
-                                                     std::atan(a / std::sqrt(a * a + h * h));
+    const double a = 0.5, h = 1.0,
+                 closed =
+                     4 / std::numbers::pi * (a / std::sqrt(a * a + h * h)) * std::atan(a / std::sqrt(a * a + h * h));
     EXPECT_NEAR(point_polygon_form_factor(where[0], {0, 0, 1}, lamp), closed, 1e-12);
 }
 
@@ -102,10 +104,9 @@ TEST(PathTracer, BlockerHidesAnExactlyKnownPartOfTheEmitter) {
 TEST(PathTracer, ErrorBarsMatchTheSpreadOverSeeds) {
     const Scene box = make_cornell_box();
     const PathTracer pt(box);
-    const std::vector<SurfacePoint> points = {
-        on(pt, {400, 0, 100}, {0, 1, 0}),      // floor, in front of the tall block
-        on(pt, {280, 300, 559.2}, {0, 0, -1}),  // back wall
-        on(pt, {0, 200, 300}, {1, 0, 0})};      // green wall
+    const std::vector<SurfacePoint> points = {on(pt, {400, 0, 100}, {0, 1, 0}),  // floor, in front of the tall block
+                                              on(pt, {280, 300, 559.2}, {0, 0, -1}),  // back wall
+                                              on(pt, {0, 200, 300}, {1, 0, 0})};      // green wall
     ReferenceOptions o;
     o.target_error = 0;  // run every seed to the same budget
     o.max_paths = 4096;

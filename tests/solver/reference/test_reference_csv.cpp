@@ -9,9 +9,10 @@ using namespace bounce;
 
 TEST(ReferenceCsv, ColumnsByNameOthersKeptQuotedFieldsRoundTrip) {
     test::TempDir dir;
-    const auto p = dir.write("in.csv", "id,nz,ny,nx,z,y,x,label\n"
-                                       "1,1,0,0,3,2,1,\"a, b\"\n"
-                                       "2, 0 ,1,0,6,5,4,\"say \"\"hi\"\"\"\n");
+    const auto p = dir.write("in.csv",
+                             "id,nz,ny,nx,z,y,x,label\n"
+                             "1,1,0,0,3,2,1,\"a, b\"\n"
+                             "2, 0 ,1,0,6,5,4,\"say \"\"hi\"\"\"\n");
     const CsvTable t = read_csv(p);
     ASSERT_EQ(t.rows.size(), 2u);
     EXPECT_EQ(t.rows[0][7], "a, b");
@@ -42,7 +43,8 @@ TEST(ReferenceCsv, BadRowsAreRefusedNamingFileLineAndColumn) {
     EXPECT_NE(message("x,y,z,nx,ny,nz\n0,0,0,0,0,1\n0,0\n").find("bad.csv:3: 2 fields, expected 6"), std::string::npos);
     EXPECT_NE(message("x,y,z,nx,ny,nz\n0,0,zero,0,0,1\n").find("bad.csv:2: column z: not a number, got 'zero'"),
               std::string::npos);
-    EXPECT_NE(message("x,y,z,nx,ny,nz\n0,0,0,0,0,0\n").find("bad.csv:2: the normal (nx,ny,nz) is zero"), std::string::npos);
+    EXPECT_NE(message("x,y,z,nx,ny,nz\n0,0,0,0,0,0\n").find("bad.csv:2: the normal (nx,ny,nz) is zero"),
+              std::string::npos);
     EXPECT_NE(message("").find("empty CSV file"), std::string::npos);
     EXPECT_NE(message("x,y,z,nx,ny,nz\n").find("no points"), std::string::npos);
 }

@@ -12,9 +12,9 @@
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/linear/solver.h"
 #include "solver/refinement/adaptive_radiosity.h"
+#include "solver/refinement/full_matrix_solution.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
-#include "solver/refinement/full_matrix_solution.h"
 
 using namespace bounce;
 
@@ -73,8 +73,7 @@ TEST(Adaptive, RefinementConcentratesWhereTheRadiosityChangesAndKeepsEnergy) {
     EXPECT_GE(hi, 4);  // shadow edges go fine
     // Emitted = absorbed + escaped (nothing is left unshot in a gathering solution).
     const SolveResult& r = a.result;
-    for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR((r.absorbed_power[c] + r.escaped_power[c]) / r.emitted_power[c], 1.0, 1e-9);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR((r.absorbed_power[c] + r.escaped_power[c]) / r.emitted_power[c], 1.0, 1e-9);
 }
 
 TEST(Hierarchical, AgreesWithTheFullMatrixOnItsElementsWithinTheOracleTolerance) {

@@ -12,9 +12,9 @@
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/linear/solver.h"
 #include "solver/refinement/cluster_tree.h"
+#include "solver/refinement/full_matrix_solution.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
-#include "solver/refinement/full_matrix_solution.h"
 
 using namespace bounce;
 
@@ -155,7 +155,8 @@ TEST(Clustering, AgreesWithUnclusteredPerInputPatch) {
         "unclustered: %zu links from %zu pairs; clustered: %zu links (%zu with a cluster) from 1; "
         "per-patch difference RMS %.4f, worst %.4f of the mean reflected radiosity (%.4f, %.4f without "
         "cluster visibility)\n",
-        flat.links.size(), flat.initial_links, clustered.links.size(), clustered.cluster_links, d.rms, d.worst, db.rms, db.worst);
+        flat.links.size(), flat.initial_links, clustered.links.size(), clustered.cluster_links, d.rms, d.worst, db.rms,
+        db.worst);
     EXPECT_EQ(clustered.initial_links, 1u);
     EXPECT_EQ(flat.initial_links, P.size() * (P.size() - 1) / 2);
     EXPECT_GT(clustered.cluster_links, 0u);
@@ -303,8 +304,8 @@ TEST(Hierarchical, SmallTrianglesAreCutNoFinerThanTheDefaultPatchMaxLevelTimes) 
                 d.large = std::max(d.large, int(node.level));
             }
         }
-        std::printf("level base %g: %zu elements, fin cut to level %d (smallest %.3g), large faces to %d\n",
-                    level_base, d.elements, d.fin, d.smallest_fin, d.large);
+        std::printf("level base %g: %zu elements, fin cut to level %d (smallest %.3g), large faces to %d\n", level_base,
+                    d.elements, d.fin, d.smallest_fin, d.large);
         return d;
     };
     const Depths now = run(1.0 / 2000), before = run(0.0);
@@ -334,10 +335,11 @@ TEST(Clustering, PowerRefinementCutsLinksAndKeepsEnergyAndTheFullMatrixAnswer) {
     const Difference d = compare(oracle.leaves, s.result.radiosity, oracle.result.radiosity);
     const Rgb& e = s.result.emitted_power;
     const double balance = (e - s.result.absorbed_power - s.result.escaped_power).luminance() / e.luminance();
-    std::printf("power epsilon 1e-4: %zu links (%zu without; %zu reused from earlier rounds), full matrix RMS %.4f "
-                "worst %.4f, escaped %.2e, balance %.1e\n",
-                s.links.size(), plain.links.size(), s.reused_links, d.rms, d.worst,
-                s.result.escaped_power.luminance() / e.luminance(), balance);
+    std::printf(
+        "power epsilon 1e-4: %zu links (%zu without; %zu reused from earlier rounds), full matrix RMS %.4f "
+        "worst %.4f, escaped %.2e, balance %.1e\n",
+        s.links.size(), plain.links.size(), s.reused_links, d.rms, d.worst,
+        s.result.escaped_power.luminance() / e.luminance(), balance);
     EXPECT_LT(double(s.links.size()), 0.75 * double(plain.links.size()));  // measured 0.60
     EXPECT_GT(s.reused_links, 0u);
     EXPECT_LT(std::abs(balance), 1e-9);
@@ -361,7 +363,8 @@ TEST(Clustering, OrientedClustersAgreeWithTheFullMatrixAtLeastAsWellAsIsotropicO
         const auto oracle = test::full_matrix_solution(s, *vis, "direct");
         d[oriented] = compare(oracle.leaves, s.result.radiosity, oracle.result.radiosity);
         std::printf("%s: %zu links (%zu with a cluster), full matrix RMS %.4f worst %.4f\n",
-                    oriented ? "oriented" : "isotropic", s.links.size(), s.cluster_links, d[oriented].rms, d[oriented].worst);
+                    oriented ? "oriented" : "isotropic", s.links.size(), s.cluster_links, d[oriented].rms,
+                    d[oriented].worst);
     }
     EXPECT_LE(d[1].rms, d[0].rms);
 }
