@@ -52,7 +52,46 @@ LinkSources link_sources(const HierarchicalSolution& sol, const PatchMesh& eleme
     for (std::size_t k = 0; k < elements.size(); ++k)
         for (const int v : elements.patch_vertex_indices(k)) out.vertex_list[std::size_t(v)] = std::uint32_t(k);
     for (const std::uint32_t k : out.vertex_list) out.pairs += double(out.offsets[k + 1] - out.offsets[k]);
+    if (sol.power_epsilon > 0) out.pairs += double(out.nodes.size());  // the leaves' centres first
     return out;
+}
+
+/// Per leaf, its own source list: a centre gathers through its own element.
+std::vector<std::uint32_t> own_lists(std::size_t leaves) {
+    std::vector<std::uint32_t> own(leaves);
+    for (std::size_t k = 0; k < own.size(); ++k) own[k] = std::uint32_t(k);
+    return own;
+}
+
+/// Every leaf's radiosity gathered anew at its centre through its own links (one Jacobi step
+/// with the exact point kernel and visibility), every parent the area-weighted mean of its
+/// children. A link accepted for its small power hands all of a coarse element the same
+/// irradiance, however differently its leaves see the source; the centre gather gives each
+/// leaf its own. Returns the leaves' values in `centres` too.
+std::vector<Rgb> regathered_radiosity(const HierarchicalSolution& sol, const PatchMesh& elements,
+                                      const LinkSources& sources, const Visibility& visibility,
+                                      const GatherOptions& options, std::vector<Rgb>& centres,
+                                      const std::atomic<bool>* cancel,
+                                      const std::function<void(std::size_t, std::size_t)>& progress) {
+    const ElementTree& tree = sol.tree;
+    const auto& nodes = tree.geometry();
+    const auto own = own_lists(elements.size());
+    const GatherSources at{own, sources.offsets, sources.nodes, sol.cluster_irradiance};
+    centres = final_gather(nodes, sol.node_radiosity, visibility, centre_gather_points(elements.patches()), at, options,
+                           cancel, progress);
+    std::vector<Rgb> B = sol.node_radiosity;
+    for (std::size_t k = 0; k < centres.size(); ++k) B[sol.leaves[k]] = centres[k];
+    for (std::size_t i = tree.size(); i-- > 0;) {  // children follow their parent in the node order
+        const auto& node = tree.node(i);
+        if (node.leaf()) continue;
+        Rgb sum;
+        for (int c = 0; c < 4; ++c) {
+            const auto child = std::size_t(node.first_child + c);
+            sum += B[child] * nodes[child].area;
+        }
+        B[i] = sum * (1.0 / nodes[i].area);
+    }
+    return B;
 }
 
 }  // namespace
@@ -71,16 +110,31 @@ GatherOutcome gather_hierarchical_point_values(
     if (sources.pairs > kMaxGatherPairs) return GatherOutcome::over_budget;
     const GatherOptions options = point_value_options();
     const auto& nodes = solution.tree.geometry();
+    std::vector<Rgb> centres;  // with a power epsilon: the leaves re-gathered first
     return run_point_gather(
         mode, res, cancel, progress,
         [&](const auto& report) {
             const GatherSources at{sources.vertex_list, sources.offsets, sources.nodes, solution.cluster_irradiance};
-            res.point_radiosity = final_gather(nodes, solution.node_radiosity, visibility,
-                                               vertex_gather_points(elements), at, options, cancel, report);
+            if (!(solution.power_epsilon > 0)) {
+                res.point_radiosity = final_gather(nodes, solution.node_radiosity, visibility,
+                                                   vertex_gather_points(elements), at, options, cancel, report);
+                return;
+            }
+            const auto first = [&progress](std::size_t d, std::size_t t) {
+                if (progress) progress("gathering: element centres", d, t);
+            };
+            const std::vector<Rgb> B =
+                regathered_radiosity(solution, elements, sources, visibility, options, centres, cancel, first);
+            if (cancel && cancel->load()) return;
+            res.point_radiosity =
+                final_gather(nodes, B, visibility, vertex_gather_points(elements), at, options, cancel, report);
         },
         [&](const auto& report) {
-            std::vector<std::uint32_t> own(elements.size());  // a centre gathers through its own element
-            for (std::size_t k = 0; k < own.size(); ++k) own[k] = std::uint32_t(k);
+            if (!centres.empty()) {  // the same gather, already done
+                res.gathered_centres = std::move(centres);
+                return;
+            }
+            const auto own = own_lists(elements.size());
             const GatherSources at{own, sources.offsets, sources.nodes, solution.cluster_irradiance};
             res.gathered_centres = final_gather(nodes, solution.node_radiosity, visibility,
                                                 centre_gather_points(elements.patches()), at, options, cancel, report);

@@ -29,6 +29,10 @@ double hierarchical_gather_pairs(const HierarchicalSolution& solution, const Pat
 /// with a cluster end is added as the solve computed it (solution.cluster_irradiance). Its
 /// cost is vertices x links per path, not vertices x leaves; over kMaxGatherPairs of those it
 /// returns over_budget. `visibility` may be over the elements or over the input patches.
+/// A solution refined with a power epsilon first re-gathers every leaf at its centre the same
+/// way and the vertices gather from those values: its links may hand a whole coarse element
+/// one mean (on the box, power epsilon 3e-6: point data 1.52% -> 1.04% RMS off the 0.1%
+/// probes, for about twice the gather). Mode "centres" then reports those centre values.
 GatherOutcome gather_hierarchical_point_values(
     const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility, SolveResult& res,
     const std::string& mode, const std::atomic<bool>* cancel = nullptr,

@@ -646,7 +646,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     if (options.refine_rounds < 1) throw std::invalid_argument("hierarchical radiosity: at least one refinement round");
     const auto start = std::chrono::steady_clock::now();
     auto since_start = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0, 0, 0.0, 0, {}, {}, {}};
+    HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0, 0, 0.0, 0, {}, {}, {}, options.power_epsilon};
     ElementTree& tree = out.tree;
     // First estimate of B for the oracle: emission plus the ambient term (the emitted power
     // spread over all area and inter-reflected by the mean reflectance).

@@ -65,6 +65,11 @@ struct HierarchicalSolution {
     /// from an ancestor); the rest came over element links, which a final gather can redo with
     /// the exact point kernel (solver/gather/hierarchical_point_values.h).
     std::vector<Rgb> cluster_irradiance;
+    /// The refinement's power epsilon. Above 0, links were also accepted because the power
+    /// they could misplace is small, so a leaf may hold the mean its coarse ancestor's links
+    /// hand all of it; the point gather then re-gathers the leaves first
+    /// (solver/gather/hierarchical_point_values.h).
+    double power_epsilon = 0.0;
 };
 
 /// Hierarchical radiosity (Hanrahan, Salzman and Aupperle 1991) with BF refinement. Each pair
