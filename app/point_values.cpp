@@ -50,7 +50,8 @@ bool gather_point_values(const HierarchicalSolution& solution, const PatchMesh& 
             return bounce::gather_hierarchical_point_values(solution, elements, visibility, res, mode, &g_interrupted,
                                                             p);
         },
-        std::to_string(elements.mesh().n_vertices()) + " vertices x the links along their elements' paths");
+        std::to_string(elements.mesh().n_vertices()) +
+            " vertices (and, with a power epsilon, the elements' centres) x the links along their elements' paths");
 }
 
 }  // namespace bounce::app

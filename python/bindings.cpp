@@ -678,7 +678,8 @@ PYBIND11_MODULE(_bounce, m) {
     py::class_<Progress>(m, "Progress", "What a long call reports to its progress callback.")
         .def_readonly("stage", &Progress::stage,
                       "'form factors', 'solve', 'adaptive' (step: round, value: RMS error estimate), "
-                      "'gathering: vertices', 'gathering: centres' or 'path tracing: points'")
+                      "'gathering: vertices', 'gathering: centres', 'gathering: element centres' or "
+                      "'path tracing: points'")
         .def_readonly("step", &Progress::step, "rows, shots, sweeps, rounds or points done")
         .def_readonly("total", &Progress::total, "of how many (0: unknown)")
         .def_readonly("value", &Progress::value, "solve: unshot fraction (shooting) or relative residual; else -1")

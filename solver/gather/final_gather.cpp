@@ -165,8 +165,8 @@ std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {
     const auto& om = mesh.mesh();
     std::vector<GatherPoint> out(om.n_vertices());
     std::vector<glm::dvec3> towards(om.n_vertices(), glm::dvec3(0.0));
-    std::vector<double> size(om.n_vertices(), 0.0);
-    std::vector<std::size_t> last(om.n_vertices(), 0);
+    std::vector<double> count(om.n_vertices(), 0.0);
+    std::vector<std::size_t> last_patch(om.n_vertices(), 0);
     for (std::size_t i = 0; i < patches.size(); ++i) {
         const Patch& p = patches[i];
         for (int v : mesh.patch_vertex_indices(i)) {
@@ -176,28 +176,28 @@ std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {
             g.reflectance = p.reflectance;
             g.emission = p.emission;
             towards[std::size_t(v)] += p.centre;
-            size[std::size_t(v)] += 1.0;
-            last[std::size_t(v)] = i;
+            count[std::size_t(v)] += 1.0;
+            last_patch[std::size_t(v)] = i;
         }
     }
     for (std::size_t v = 0; v < out.size(); ++v) {
         const auto q = om.point(OpenMesh::VertexHandle(int(v)));
         const glm::dvec3 x(q[0], q[1], q[2]);
-        out[v].position = size[v] == 0 ? x : x + kNudge * (towards[v] / size[v] - x);
+        out[v].position = count[v] == 0 ? x : x + kNudge * (towards[v] / count[v] - x);
     }
     // Where the patches around a vertex fill more than a half-turn (a hole's corner, a
-    // notch), the mean of their centres can lie in none of them: the point would leave the
-    // surface (over the lamp, behind it). Such a vertex moves towards one of its own cells.
+    // notch), the point so moved can lie in none of them: it would leave the surface (over
+    // the lamp, behind it). Such a vertex moves towards the centre of one of its own cells.
     std::vector<std::uint8_t> inside(out.size(), 0);
     for (std::size_t i = 0; i < patches.size(); ++i)
         for (int v : mesh.patch_vertex_indices(i))
             if (!inside[std::size_t(v)] && contains(patches[i], out[std::size_t(v)].position))
                 inside[std::size_t(v)] = 1;
     for (std::size_t v = 0; v < out.size(); ++v) {
-        if (inside[v] || size[v] == 0) continue;
+        if (inside[v] || count[v] == 0) continue;
         const auto q = om.point(OpenMesh::VertexHandle(int(v)));
         const glm::dvec3 x(q[0], q[1], q[2]);
-        out[v].position = x + kNudge * (patches[last[v]].centre - x);
+        out[v].position = x + kNudge * (patches[last_patch[v]].centre - x);
     }
     return out;
 }

@@ -75,8 +75,9 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
                               const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 /// The mesh's vertices as gather points: each on its surface (vertices are shared only within
-/// a surface), moved a tenth of the way towards the centres of the patches around it, or, where
-/// that mean lies in none of them (a hole's corner), towards one of them. A vertex on a contact
+/// a surface), moved a tenth of the way towards the mean of the centres of the patches around
+/// it, or, where the point so moved lies in none of them (a hole's corner), towards the centre
+/// of one of them. A vertex on a contact
 /// edge (a lamp 0.1 mm below the ceiling, a block on the floor) then takes the value inside its
 /// cells rather than the value on the edge, where a layer thinner than any patch halves it and
 /// linear interpolation would spread that over whole cells; and a vertex at a corner of the

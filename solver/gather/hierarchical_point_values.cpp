@@ -14,7 +14,7 @@ struct LinkSources {
     std::vector<std::size_t> offsets;
     std::vector<std::uint32_t> nodes;
     std::vector<std::uint32_t> vertex_list;  // per vertex of the elements: its leaf
-    double pairs = 0.0;                      // vertices x sources
+    double pairs = 0.0;                      // gather points x sources (leaf centres too, with a power epsilon)
 };
 
 LinkSources link_sources(const HierarchicalSolution& sol, const PatchMesh& elements) {
@@ -120,11 +120,11 @@ GatherOutcome gather_hierarchical_point_values(
                                                    vertex_gather_points(elements), at, options, cancel, report);
                 return;
             }
-            const auto first = [&progress](std::size_t d, std::size_t t) {
+            const auto centre_progress = [&progress](std::size_t d, std::size_t t) {
                 if (progress) progress("gathering: element centres", d, t);
             };
-            const std::vector<Rgb> B =
-                regathered_radiosity(solution, elements, sources, visibility, options, centres, cancel, first);
+            const std::vector<Rgb> B = regathered_radiosity(solution, elements, sources, visibility, options, centres,
+                                                            cancel, centre_progress);
             if (cancel && cancel->load()) return;
             res.point_radiosity =
                 final_gather(nodes, B, visibility, vertex_gather_points(elements), at, options, cancel, report);

@@ -51,7 +51,8 @@ void check_gather_mode(const std::string& mode);
 /// Fills res.point_radiosity (and res.gathered_centres for "centres") by final gather from the
 /// solved patches and adds the time to res.seconds. Leaves them empty (the averaged point data
 /// is written) unless it returns `gathered`. `progress(stage, done, total)` is called from
-/// worker threads; stage is "gathering: vertices" or "gathering: centres". Throws
+/// worker threads; stage is "gathering: vertices" or "gathering: centres" (the hierarchical
+/// gather also reports "gathering: element centres"). Throws
 /// std::invalid_argument on an unknown mode, listing the valid ones.
 GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res,
                                   const std::string& mode, const std::atomic<bool>* cancel = nullptr,
