@@ -56,29 +56,28 @@ LinkSources link_sources(const HierarchicalSolution& sol, const PatchMesh& eleme
     return out;
 }
 
-/// Per leaf, its own source list: a centre gathers through its own element.
-std::vector<std::uint32_t> own_lists(std::size_t leaves) {
-    std::vector<std::uint32_t> own(leaves);
+/// Every leaf's value gathered at its centre through its own links (the leaf's list of
+/// `sources`) from the solution's node radiosity: mode "centres", and the first step of the
+/// re-gather below.
+std::vector<Rgb> centre_values(const HierarchicalSolution& sol, const PatchMesh& elements, const LinkSources& sources,
+                               const Visibility& visibility, const GatherOptions& options,
+                               const std::atomic<bool>* cancel,
+                               const std::function<void(std::size_t, std::size_t)>& progress) {
+    std::vector<std::uint32_t> own(elements.size());  // a centre gathers through its own element
     for (std::size_t k = 0; k < own.size(); ++k) own[k] = std::uint32_t(k);
-    return own;
+    const GatherSources at{own, sources.offsets, sources.nodes, sol.cluster_irradiance};
+    return final_gather(sol.tree.geometry(), sol.node_radiosity, visibility, centre_gather_points(elements.patches()),
+                        at, options, cancel, progress);
 }
 
-/// Every leaf's radiosity gathered anew at its centre through its own links (one Jacobi step
-/// with the exact point kernel and visibility), every parent the area-weighted mean of its
-/// children. A link accepted for its small power hands all of a coarse element the same
+/// The node radiosity with every leaf's replaced by its re-gathered centre value and every
+/// parent the area-weighted mean of its children (one Jacobi step with the exact point kernel
+/// and visibility). A link accepted for its small power hands all of a coarse element the same
 /// irradiance, however differently its leaves see the source; the centre gather gives each
-/// leaf its own. Returns the leaves' values in `centres` too.
-std::vector<Rgb> regathered_radiosity(const HierarchicalSolution& sol, const PatchMesh& elements,
-                                      const LinkSources& sources, const Visibility& visibility,
-                                      const GatherOptions& options, std::vector<Rgb>& centres,
-                                      const std::atomic<bool>* cancel,
-                                      const std::function<void(std::size_t, std::size_t)>& progress) {
+/// leaf its own.
+std::vector<Rgb> regathered_radiosity(const HierarchicalSolution& sol, const std::vector<Rgb>& centres) {
     const ElementTree& tree = sol.tree;
     const auto& nodes = tree.geometry();
-    const auto own = own_lists(elements.size());
-    const GatherSources at{own, sources.offsets, sources.nodes, sol.cluster_irradiance};
-    centres = final_gather(nodes, sol.node_radiosity, visibility, centre_gather_points(elements.patches()), at, options,
-                           cancel, progress);
     std::vector<Rgb> B = sol.node_radiosity;
     for (std::size_t k = 0; k < centres.size(); ++k) B[sol.leaves[k]] = centres[k];
     for (std::size_t i = tree.size(); i-- > 0;) {  // children follow their parent in the node order
@@ -115,29 +114,23 @@ GatherOutcome gather_hierarchical_point_values(
         mode, res, cancel, progress,
         [&](const auto& report) {
             const GatherSources at{sources.vertex_list, sources.offsets, sources.nodes, solution.cluster_irradiance};
-            if (!(solution.power_epsilon > 0)) {
-                res.point_radiosity = final_gather(nodes, solution.node_radiosity, visibility,
-                                                   vertex_gather_points(elements), at, options, cancel, report);
-                return;
+            std::vector<Rgb> regathered;
+            if (solution.power_epsilon > 0) {
+                centres = centre_values(solution, elements, sources, visibility, options, cancel,
+                                        [&progress](std::size_t d, std::size_t t) {
+                                            if (progress) progress("gathering: element centres", d, t);
+                                        });
+                if (cancel && cancel->load()) return;
+                regathered = regathered_radiosity(solution, centres);
             }
-            const auto centre_progress = [&progress](std::size_t d, std::size_t t) {
-                if (progress) progress("gathering: element centres", d, t);
-            };
-            const std::vector<Rgb> B = regathered_radiosity(solution, elements, sources, visibility, options, centres,
-                                                            cancel, centre_progress);
-            if (cancel && cancel->load()) return;
-            res.point_radiosity =
-                final_gather(nodes, B, visibility, vertex_gather_points(elements), at, options, cancel, report);
+            res.point_radiosity = final_gather(nodes, regathered.empty() ? solution.node_radiosity : regathered,
+                                               visibility, vertex_gather_points(elements), at, options, cancel, report);
         },
         [&](const auto& report) {
-            if (!centres.empty()) {  // the same gather, already done
-                res.gathered_centres = std::move(centres);
-                return;
-            }
-            const auto own = own_lists(elements.size());
-            const GatherSources at{own, sources.offsets, sources.nodes, solution.cluster_irradiance};
-            res.gathered_centres = final_gather(nodes, solution.node_radiosity, visibility,
-                                                centre_gather_points(elements.patches()), at, options, cancel, report);
+            // With a power epsilon the same gather is already done.
+            if (centres.empty())
+                centres = centre_values(solution, elements, sources, visibility, options, cancel, report);
+            res.gathered_centres = std::move(centres);
         });
 }
 
