@@ -41,6 +41,17 @@ inline double circumradius(const Patch& p) {
     return r;
 }
 
+/// True when x, projected along p's normal onto its plane, lies within p (p convex): on the
+/// inner side of every edge, or outside by at most `slack` in the edge's cross product with
+/// x (a length squared; 0: exactly).
+inline bool covers(const Patch& p, const glm::dvec3& x, double slack = 0.0) {
+    for (int k = 0; k < p.vertex_count; ++k) {
+        const glm::dvec3 u = p.vertices[k], w = p.vertices[(k + 1) % p.vertex_count];
+        if (glm::dot(glm::cross(w - u, x - u), p.normal) < -slack) return false;
+    }
+    return true;
+}
+
 /// True when no vertex of `q` lies below `p`'s plane (a vertex within 1e-9 sqrt(A_q) of it
 /// counts as on it): q is wholly in front of p, so no part of q needs clipping against p.
 inline bool wholly_in_front(const Patch& p, const Patch& q) {

@@ -49,17 +49,6 @@ private:
     std::optional<GaussPointCache> m_gauss;  // with a positive tolerance only
 };
 
-/// True when x, projected onto convex patch p's plane, lies within p (its edges included,
-/// up to rounding).
-bool contains(const Patch& p, const glm::dvec3& x) {
-    const double tol = -1e-9 * p.area;
-    for (int k = 0; k < p.vertex_count; ++k) {
-        const glm::dvec3 u = p.vertices[k], w = p.vertices[(k + 1) % p.vertex_count];
-        if (glm::dot(glm::cross(w - u, x - u), p.normal) < tol) return false;
-    }
-    return true;
-}
-
 /// Both final_gathers: over every patch (sources null) or over each point's list.
 std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity, const Visibility& visibility,
                         std::span<const GatherPoint> points, const GatherSources* sources, const GatherOptions& options,
@@ -191,7 +180,7 @@ std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {
     std::vector<std::uint8_t> inside(out.size(), 0);
     for (std::size_t i = 0; i < patches.size(); ++i)
         for (int v : mesh.patch_vertex_indices(i))
-            if (!inside[std::size_t(v)] && contains(patches[i], out[std::size_t(v)].position))
+            if (!inside[std::size_t(v)] && covers(patches[i], out[std::size_t(v)].position, 1e-9 * patches[i].area))
                 inside[std::size_t(v)] = 1;
     for (std::size_t v = 0; v < out.size(); ++v) {
         if (inside[v] || count[v] == 0) continue;

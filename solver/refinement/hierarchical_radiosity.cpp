@@ -122,12 +122,7 @@ double cluster_visible_fraction(const End& a, const End& b, const Visibility& vi
 /// when that falls outside, the nearest point of its edges.
 glm::dvec3 nearest_point(const Patch& a, const glm::dvec3& x) {
     const glm::dvec3 p = x - a.height(x) * a.normal;
-    bool inside = true;
-    for (int k = 0; k < a.vertex_count; ++k) {
-        const glm::dvec3 u = a.vertices[k], v = a.vertices[(k + 1) % a.vertex_count];
-        if (glm::dot(glm::cross(v - u, p - u), a.normal) < 0) inside = false;
-    }
-    if (inside) return p;
+    if (covers(a, p)) return p;
     glm::dvec3 best = a.vertices[0];
     double best_d = 1e300;
     for (int k = 0; k < a.vertex_count; ++k) {
