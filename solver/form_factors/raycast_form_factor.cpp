@@ -47,6 +47,10 @@ RaycastFormFactor::RaycastFormFactor(const std::vector<Patch>& patches, const Vi
 RaycastFormFactor::~RaycastFormFactor() = default;
 
 double RaycastFormFactor::visible_fraction(std::size_t i, std::size_t j) const {
+    return visible_fraction(i, j, m_options.visibility_rays);
+}
+
+double RaycastFormFactor::visible_fraction(std::size_t i, std::size_t j, int ray_count) const {
     if (!m_visibility) return 1.0;
     // Canonical order so (i, j) and (j, i) trace the very same rays.
     const std::size_t lo = std::min(i, j), hi = std::max(i, j);
@@ -56,7 +60,7 @@ double RaycastFormFactor::visible_fraction(std::size_t i, std::size_t j) const {
     if (m_culler->clear(lo, hi)) return 1.0;
     const Patch& a = m_patches[lo];
     const Patch& b = m_patches[hi];
-    const int m = m_options.visibility_rays;
+    const int m = ray_count;
     const auto [sx, sy] = strata(m);
     SplitMix64 rng{m_options.seed * 0x9E3779B97F4A7C15ull ^ (std::uint64_t(lo) << 32 | std::uint64_t(hi))};
     // Exactly m strata on each patch (sx x sy = m), each ray in its own stratum on a and in a

@@ -43,6 +43,8 @@ public:
     double pair(std::size_t i, std::size_t j) const;
     /// Fraction of the pair's rays that arrive unblocked (1 without visibility).
     double visible_fraction(std::size_t i, std::size_t j) const;
+    /// The same with `ray_count` rays (stratified alike) instead of the options' count.
+    double visible_fraction(std::size_t i, std::size_t j, int ray_count) const;
     /// F(dA at x with normal n -> patch j): the exact kernel times the fraction of stratified
     /// rays from x to j that arrive; `stream` seeds the rays (the same stream, the same rays).
     /// Radiosity at a point, B(x) = E + rho sum_j F(x -> j) B_j, is what adaptive

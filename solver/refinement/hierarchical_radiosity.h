@@ -30,6 +30,10 @@ struct HierarchicalOptions {
     /// below this share of the scene's power (sum B A), both ways round; 0: off. Small
     /// elements and faint corners stop refining whatever their relative error.
     double power_epsilon = 0.0;
+    /// A pair of elements that would be linked but whose refinement rays partly arrive (a
+    /// shadow's edge crosses it) counts all the link brings as its error, so it is refined
+    /// unless faint or at the depth limit; one visible fraction per link blurs penumbrae.
+    bool refine_partial_visibility = true;
     bool cluster_visibility = true;  // cluster links: visible fraction of rays between member centroids
     bool oriented_clusters = true;   // a cluster sends and receives per axis direction, not alike to all members
     double tolerance = 1e-6;         // stop when no element's radiosity changes by more than this, relatively
@@ -80,10 +84,12 @@ struct HierarchicalSolution {
 /// brings (F B) plus `link_floor` of the scene's mean radiosity, both ways round, or neither
 /// may be split, they are linked and the link's form factor is computed with
 /// visibility (RaycastFormFactor, both directions from one integral); otherwise the larger of
-/// the two is split into its quadtree children. The first refinement uses emission plus an
-/// ambient estimate for B, later rounds the last solution's B. The solution iterates gather (every element collects F B
-/// over its links) and push-pull (irradiance pushed down to the leaves, radiosity pulled up as area-weighted means)
-/// until it settles. The link count grows like N, not N^2.
+/// the two is split into its quadtree children. With `refine_partial_visibility` a pair so
+/// accepted whose few rays partly arrive is judged again with all it brings, F B, added to
+/// its error (a shadow's edge crosses it), and split unless still within the bounds. The first refinement uses emission
+/// plus an ambient estimate for B, later rounds the last solution's B. The solution iterates gather (every element
+/// collects F B over its links) and push-pull (irradiance pushed down to the leaves, radiosity pulled up as
+/// area-weighted means) until it settles. The link count grows like N, not N^2.
 ///
 /// With `clustering` (Smits, Arvo and Greenberg 1994; Sillion 1995) the patches are the
 /// leaves of a binary cluster hierarchy (cluster_tree.h) and refinement starts from the root
