@@ -80,27 +80,47 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
         const glm::dvec3 from = x.position + lift * x.normal;
         const std::size_t list = sources ? sources->list[i] : 0;
         const std::size_t count = sources ? sources->offsets[list + 1] - sources->offsets[list] : patches.size();
+        thread_local std::vector<std::size_t> pending;
+        pending.clear();
+        const bool descend = sources && !sources->first_child.empty() && sources->descend > 0;
         for (std::size_t s = 0; s < count; ++s) {
-            const std::size_t j = sources ? sources->patches[sources->offsets[list] + s] : s;
-            const Patch& p = patches[j];
-            if (p.surface == x.surface || radiosity[j].max() <= 0) continue;
-            if (p.height(x.position) <= 0) continue;  // x behind p: p sends nothing its way
-            const double f0 = factor(x.position, x.normal, j);
-            if (!(f0 > 0)) continue;
-            // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
-            int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
-            if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
-            const int side = std::max(1, int(std::lround(std::sqrt(double(want)))));
-            terms.push_back({j, segments.size(), std::size_t(side * side), f0});
-            for (int a = 0; a < side; ++a)
-                for (int b = 0; b < side; ++b) {
-                    const glm::dvec3 y = patch_point(p, (a + rng.uniform()) / side, (b + rng.uniform()) / side);
-                    const glm::dvec3 d = y - x.position;
-                    const double r2 = glm::dot(d, d);
-                    kernel.push_back(std::max(0.0, glm::dot(x.normal, d)) * std::max(0.0, -glm::dot(p.normal, d)) /
-                                     (r2 * r2));
-                    segments.push_back({from, y + lift * p.normal});
+            pending.push_back(sources ? sources->patches[sources->offsets[list] + s] : s);
+            while (!pending.empty()) {
+                const std::size_t j = pending.back();
+                pending.pop_back();
+                const Patch& p = patches[j];
+                if (p.surface == x.surface || radiosity[j].max() <= 0) continue;
+                if (p.height(x.position) <= 0) continue;  // x behind p: p sends nothing its way
+                const double f0 = factor(x.position, x.normal, j);
+                if (!(f0 > 0)) continue;
+                if (descend && sources->first_child[j] >= 0) {
+                    double r2 = 0;
+                    for (int v = 0; v < p.vertex_count; ++v) {
+                        const glm::dvec3 e = p.vertices[v] - p.centre;
+                        r2 = std::max(r2, glm::dot(e, e));
+                    }
+                    const glm::dvec3 d = p.centre - x.position;
+                    const double ratio = std::min(1.0, std::sqrt(r2 / glm::dot(d, d)));
+                    if (ratio * sources->spread[j] > sources->descend * radiosity[j].luminance()) {
+                        for (int c = 0; c < 4; ++c) pending.push_back(std::size_t(sources->first_child[j] + c));
+                        continue;
+                    }
                 }
+                // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
+                int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
+                if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
+                const int side = std::max(1, int(std::lround(std::sqrt(double(want)))));
+                terms.push_back({j, segments.size(), std::size_t(side * side), f0});
+                for (int a = 0; a < side; ++a)
+                    for (int b = 0; b < side; ++b) {
+                        const glm::dvec3 y = patch_point(p, (a + rng.uniform()) / side, (b + rng.uniform()) / side);
+                        const glm::dvec3 d = y - x.position;
+                        const double r2 = glm::dot(d, d);
+                        kernel.push_back(std::max(0.0, glm::dot(x.normal, d)) * std::max(0.0, -glm::dot(p.normal, d)) /
+                                         (r2 * r2));
+                        segments.push_back({from, y + lift * p.normal});
+                    }
+            }
         }
         blocked.resize(segments.size());
         visibility.occluded(segments, blocked);

@@ -65,6 +65,15 @@ struct GatherSources {
     std::span<const std::size_t> offsets;    // per list, and one past the last
     std::span<const std::uint32_t> patches;  // indices into the patches gathered from
     std::span<const Rgb> irradiance;         // per list, or empty
+    /// Optional, a hierarchy's (`descend` > 0): per patch, the first of its four children
+    /// (consecutive, tiling it) or -1, and the spread (max - min luminance) of the radiosity of
+    /// the leaves under it. A source whose min(1, r / d) spread exceeds `descend` times its own
+    /// luminance (r: its circumradius, d: its centre's distance from the point) is replaced by
+    /// its children, recursively: its mean B would be weighted by a kernel that varies over
+    /// children that differ. 0: every listed source is gathered as it is.
+    std::span<const std::int32_t> first_child = {};
+    std::span<const double> spread = {};
+    double descend = 0.0;
 };
 
 /// final_gather over the patches `sources` names for each point, not over all of them.

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Final gather against known answers: the furnace (sum of exact factors in a closed box is 1,
 // no false occlusion at corners), direct light under a lamp (Lambert's formula), and a blocker
-// that hides exactly half of the lamp.
+// that hides exactly half of the lamp; a hierarchy's near source gathered through its children.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 #include <iostream>
 #include <string>
 
+#include "mesh/element_tree.h"
 #include "mesh/patch_mesh.h"
 #include "mesh/scene_loader.h"
 #include "mesh/validation_scenes.h"
@@ -172,5 +173,49 @@ TEST(FinalGather, VerticesAtTheLampHolesCornersStayOnTheCeiling) {
                       << g[k + 1].g << " 20 mm out\n";
             EXPECT_NEAR(g[k].g / g[k + 1].g, 1.0, 0.1) << "corner " << k / 2;
         }
+    }
+}
+
+// A listed source whose four children differ (one lit, three dark) is gathered as its
+// children where the point is near it: the exact factor to the lit child, not the factor to
+// the whole times the mean. With GatherSources::descend at 0 the point gets the mean's value.
+TEST(FinalGather, NearSourceWhoseChildrenDifferIsGatheredThroughTheChildren) {
+    Scene s = lamp_over_plane();  // the plane (rho 0.5) under a unit square at z = 1
+    s.materials[1].emission = Rgb();
+    MeshingOptions o;
+    o.subdivide = false;
+    const PatchMesh m(s, o);
+    ElementTree tree(m.patches());
+    const std::size_t first = tree.split(1);  // the square's quarters
+    const auto& nodes = tree.geometry();
+    std::vector<Rgb> B(nodes.size(), Rgb());
+    B[first] = Rgb(4, 4, 4);  // one quarter lit; its parent holds the mean
+    B[1] = Rgb(1, 1, 1);
+    std::vector<std::int32_t> first_child(nodes.size(), -1);
+    first_child[1] = std::int32_t(first);
+    std::vector<double> spread(nodes.size(), 0.0);
+    spread[1] = 4.0;
+    const auto vis = make_visibility("embree", nodes);
+    std::vector<GatherPoint> points;
+    for (const glm::dvec3 x : {glm::dvec3(0.25, 0.25, 0), glm::dvec3(-0.5, -0.5, 0), glm::dvec3(1.5, 0.25, 0)})
+        points.push_back({x, {0, 0, 1}, 0, Rgb::gray(0.5), Rgb()});
+    const std::vector<std::uint32_t> list(points.size(), 0), patches{1};
+    const std::vector<std::size_t> offsets{0, 1};
+    GatherSources sources{list, offsets, patches, {}};
+    sources.first_child = first_child;
+    sources.spread = spread;
+    sources.descend = 0.1;
+    const auto down = final_gather(nodes, B, *vis, points, sources);
+    sources.descend = 0.0;
+    const auto whole = final_gather(nodes, B, *vis, points, sources);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const glm::dvec3 x = points[i].position;
+        const double lit = 0.5 * 4.0 * point_polygon_form_factor(x, {0, 0, 1}, nodes[first].polygon());
+        const double mean = 0.5 * 1.0 * point_polygon_form_factor(x, {0, 0, 1}, nodes[1].polygon());
+        std::cout << "(" << x.x << ", " << x.y << "): through the children " << down[i].g << " (exact " << lit
+                  << "), the whole " << whole[i].g << " (" << mean << ")\n";
+        EXPECT_NEAR(down[i].g, lit, 1e-9 * lit);
+        EXPECT_NEAR(whole[i].g, mean, 1e-9 * mean);
+        EXPECT_GT(std::abs(whole[i].g / lit - 1), 0.1);  // the mean is not the answer here
     }
 }
