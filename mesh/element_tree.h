@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -56,6 +57,9 @@ public:
     /// mesh is conforming and point data interpolates without cracks. Faces are in the
     /// order of `leaves`; PatchMesh::patches() are the leaves' geometry.
     PatchMesh conforming_mesh(const std::vector<std::uint32_t>& leaves) const;
+    /// Per node: max - min of the luminance of `values` (one per node) over the leaves under
+    /// it, 0 at a leaf: how much a node's mean hides.
+    std::vector<double> leaf_luminance_spread(std::span<const Rgb> values) const;
 
 private:
     Patch make_geometry(std::uint32_t root, int count, const std::array<glm::dvec2, 4>& corners) const;

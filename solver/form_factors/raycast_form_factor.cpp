@@ -105,23 +105,25 @@ double RaycastFormFactor::point_factor(const glm::dvec3& x, const glm::dvec3& n,
     return f * m_visibility->open_fraction(rays);
 }
 
-double RaycastFormFactor::pair(std::size_t i, std::size_t j) const {
+double RaycastFormFactor::pair(std::size_t i, std::size_t j) const { return pair(i, j, -1.0); }
+
+double RaycastFormFactor::pair(std::size_t i, std::size_t j, double visible) const {
     if (i == j) return 0.0;
     // Receiver points go on the smaller patch (ties: the higher index), whichever way round
     // the pair is asked for, so F_ij and F_ji come from one integral.
     const double ai = m_patches[i].area, aj = m_patches[j].area;
     const bool j_receives = aj < ai || (aj == ai && j > i);
-    return j_receives ? directed(i, j) : directed(j, i) * aj / ai;
+    return j_receives ? directed(i, j, visible) : directed(j, i, visible) * aj / ai;
 }
 
-double RaycastFormFactor::directed(std::size_t i, std::size_t j) const {
+double RaycastFormFactor::directed(std::size_t i, std::size_t j, double visible) const {
     const Patch& s = m_patches[i];
     const Patch& r = m_patches[j];
     if (wholly_behind(s, r) || wholly_behind(r, s)) return 0.0;
     if (m_options.receiver_samples == 0) {
         const double f_rs = m_unoccluded(j, i);
         if (f_rs <= 0.0) return 0.0;
-        return f_rs * visible_fraction(i, j) * r.area / s.area;
+        return f_rs * (visible >= 0 ? visible : visible_fraction(i, j)) * r.area / s.area;
     }
     const int n = m_options.receiver_samples;
     thread_local std::vector<AreaSample> samples;

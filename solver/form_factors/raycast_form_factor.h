@@ -41,6 +41,9 @@ public:
     double patch_area(std::size_t i) const override { return m_patches[i].area; }
     /// F_ij for one pair (0 when i == j).
     double pair(std::size_t i, std::size_t j) const;
+    /// F_ij with the pair's visible fraction already known (traced by visible_fraction with
+    /// more rays, say): no rays. With receiver samples, which trace their own, as pair().
+    double pair(std::size_t i, std::size_t j, double visible) const;
     /// Fraction of the pair's rays that arrive unblocked (1 without visibility).
     double visible_fraction(std::size_t i, std::size_t j) const;
     /// The same with `ray_count` rays (stratified alike) instead of the options' count.
@@ -54,7 +57,7 @@ public:
 private:
     /// F_ij: with receiver_samples 0, the unoccluded factor to unoccluded_tolerance times the
     /// visible fraction; otherwise n x n receiver points on j (the exact kernel covers i).
-    double directed(std::size_t i, std::size_t j) const;
+    double directed(std::size_t i, std::size_t j, double visible = -1.0) const;
     const std::vector<Patch>& m_patches;
     const Visibility* m_visibility;
     FormFactorOptions m_options;

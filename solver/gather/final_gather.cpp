@@ -80,9 +80,9 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
         const glm::dvec3 from = x.position + lift * x.normal;
         const std::size_t list = sources ? sources->list[i] : 0;
         const std::size_t count = sources ? sources->offsets[list + 1] - sources->offsets[list] : patches.size();
-        thread_local std::vector<std::size_t> pending;
+        thread_local std::vector<std::size_t> pending;  // sources still to take: listed, or children
         pending.clear();
-        const bool descend = sources && !sources->first_child.empty() && sources->descend > 0;
+        const bool may_descend = sources && sources->descend > 0;
         for (std::size_t s = 0; s < count; ++s) {
             pending.push_back(sources ? sources->patches[sources->offsets[list] + s] : s);
             while (!pending.empty()) {
@@ -91,9 +91,7 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
                 const Patch& p = patches[j];
                 if (p.surface == x.surface || radiosity[j].max() <= 0) continue;
                 if (p.height(x.position) <= 0) continue;  // x behind p: p sends nothing its way
-                const double f0 = factor(x.position, x.normal, j);
-                if (!(f0 > 0)) continue;
-                if (descend && sources->first_child[j] >= 0) {
+                if (may_descend && sources->first_child[j] >= 0) {
                     double r2 = 0;
                     for (int v = 0; v < p.vertex_count; ++v) {
                         const glm::dvec3 e = p.vertices[v] - p.centre;
@@ -106,6 +104,8 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
                         continue;
                     }
                 }
+                const double f0 = factor(x.position, x.normal, j);
+                if (!(f0 > 0)) continue;
                 // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
                 int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
                 if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
@@ -161,6 +161,9 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
                               const std::function<void(std::size_t, std::size_t)>& progress) {
     if (sources.list.size() != points.size())
         throw std::invalid_argument("final gather: a source list is needed for every point");
+    if (sources.descend > 0 &&
+        (sources.first_child.size() != patches.size() || sources.spread.size() != patches.size()))
+        throw std::invalid_argument("final gather: going down to children needs them and their spread for every patch");
     return gather(patches, radiosity, visibility, points, &sources, options, cancel, progress);
 }
 

@@ -2,7 +2,6 @@
 #include "solver/gather/hierarchical_point_values.h"
 
 #include <algorithm>
-#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -56,36 +55,6 @@ LinkSources link_sources(const HierarchicalSolution& sol, const PatchMesh& eleme
         for (const int v : elements.patch_vertex_indices(k)) out.vertex_list[std::size_t(v)] = std::uint32_t(k);
     for (const std::uint32_t k : out.vertex_list) out.pairs += double(out.offsets[k + 1] - out.offsets[k]);
     if (sol.power_epsilon > 0) out.pairs += double(out.nodes.size());  // the leaves' centres first
-    return out;
-}
-
-/// Per node of the tree, the first of its four children (or -1) and the spread (max - min
-/// luminance) of `radiosity` over the leaves under it: what final_gather needs to go down from
-/// a linked source to its children (GatherSources::descend).
-struct SourceTree {
-    std::vector<std::int32_t> first_child;
-    std::vector<double> spread;
-};
-
-SourceTree source_tree(const ElementTree& tree, const std::vector<Rgb>& radiosity) {
-    const std::size_t n = tree.size();
-    SourceTree out{std::vector<std::int32_t>(n), std::vector<double>(n)};
-    std::vector<double> lo(n), hi(n);
-    for (std::size_t i = n; i-- > 0;) {  // children follow their parent in the node order
-        const auto& node = tree.node(i);
-        out.first_child[i] = node.first_child;
-        if (node.leaf()) {
-            lo[i] = hi[i] = radiosity[i].luminance();
-            continue;
-        }
-        lo[i] = std::numeric_limits<double>::infinity();
-        hi[i] = -lo[i];
-        for (int c = 0; c < 4; ++c) {
-            lo[i] = std::min(lo[i], lo[std::size_t(node.first_child + c)]);
-            hi[i] = std::max(hi[i], hi[std::size_t(node.first_child + c)]);
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i) out.spread[i] = hi[i] - lo[i];
     return out;
 }
 
@@ -165,9 +134,11 @@ GatherOutcome gather_hierarchical_point_values(
                 regathered = regathered_radiosity(solution, centres);
             }
             const std::vector<Rgb>& B = regathered.empty() ? solution.node_radiosity : regathered;
-            const SourceTree down = source_tree(solution.tree, B);
-            at.first_child = down.first_child;
-            at.spread = down.spread;
+            std::vector<std::int32_t> first_child(solution.tree.size());
+            for (std::size_t i = 0; i < first_child.size(); ++i) first_child[i] = solution.tree.node(i).first_child;
+            const std::vector<double> spread = solution.tree.leaf_luminance_spread(B);
+            at.first_child = first_child;
+            at.spread = spread;
             at.descend = kDescendShare;
             res.point_radiosity =
                 final_gather(nodes, B, visibility, vertex_gather_points(elements), at, options, cancel, report);

@@ -439,6 +439,9 @@ void finish_result(const ElementTree& tree, const std::vector<Rgb>& B, const std
     }
 }
 
+/// Pairs whose partial visibility refinement has traced, with the open share of their rays.
+using SeenVisibility = std::vector<std::pair<std::uint64_t, float>>;
+
 /// Rays that judge whether a shadow's edge crosses a pair about to be linked: with 4, an
 /// element a third in shadow kept all its rays lit one time in five.
 constexpr int kPartialVisibilityRays = 16;
@@ -447,8 +450,9 @@ class Refiner {
 public:
     Refiner(ElementTree& tree, const ClusterTree* clusters, const HierarchicalOptions& o, std::vector<double> min_area,
             std::vector<Rgb>& radiosity, const std::vector<Rgb>& cluster_radiosity, double scale, double power,
-            const RaycastFormFactor* ff = nullptr)
+            const RaycastFormFactor* ff = nullptr, const SeenVisibility* seen = nullptr)
         : m_ff(ff),
+          m_seen(seen),
           m_tree(tree),
           m_clusters(clusters),
           m_options(o),
@@ -457,25 +461,8 @@ public:
           m_cb(cluster_radiosity),
           m_scale(scale),
           m_power_budget(o.power_epsilon * power) {
-        // How much the leaves' radiosity varies under each node, from the last solution
-        // (children follow their parent in the node order, so one pass backwards).
-        const std::size_t n = tree.size();
-        std::vector<double> lo(n), hi(n);
-        for (std::size_t i = n; i-- > 0;) {
-            const auto& node = tree.node(i);
-            if (node.leaf()) {
-                lo[i] = hi[i] = radiosity[i].luminance();
-                continue;
-            }
-            lo[i] = 1e300;
-            hi[i] = -1e300;
-            for (int c = 0; c < 4; ++c) {
-                lo[i] = std::min(lo[i], lo[std::size_t(node.first_child + c)]);
-                hi[i] = std::max(hi[i], hi[std::size_t(node.first_child + c)]);
-            }
-        }
-        m_b_range.resize(n);
-        for (std::size_t i = 0; i < n; ++i) m_b_range[i] = hi[i] - lo[i];
+        // How much the leaves' radiosity varies under each node, from the last solution.
+        m_b_range = tree.leaf_luminance_spread(radiosity);
     }
 
     struct Pair {
@@ -489,14 +476,17 @@ public:
     /// the elements' numbering and the links do not depend on the number of threads.
     void run(std::vector<Pair> pairs) {
         std::vector<Step> steps;
+        std::vector<float> visible;  // per pair linked after tracing its rays: their open share
         std::vector<Pair> next;
         while (!pairs.empty()) {
             steps.resize(pairs.size());
+            visible.assign(pairs.size(), -1.0f);
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.size(), 256), [&](const auto& r) {
-                for (std::size_t k = r.begin(); k != r.end(); ++k) steps[k] = decide(pairs[k].a, pairs[k].b);
+                for (std::size_t k = r.begin(); k != r.end(); ++k)
+                    steps[k] = decide(pairs[k].a, pairs[k].b, visible[k]);
             });
             next.clear();
-            for (std::size_t k = 0; k < pairs.size(); ++k) apply(pairs[k], steps[k], next);
+            for (std::size_t k = 0; k < pairs.size(); ++k) apply(pairs[k], steps[k], visible[k], next);
             pairs.swap(next);
         }
     }
@@ -513,9 +503,9 @@ private:
     /// 1995). Link when that is below link_epsilon of what the link brings plus cluster_floor
     /// of the scene's mean radiosity, both ways round; else split the larger cluster. A
     /// cluster's self-link is always refined: it would send a cluster's power to itself.
-    Step decide(std::uint32_t a, std::uint32_t b) const {
+    Step decide(std::uint32_t a, std::uint32_t b, float& visible) const {
         const bool ca = ClusterTree::is_cluster(a), cb = ClusterTree::is_cluster(b);
-        if (!ca && !cb) return decide_elements(a, b);
+        if (!ca && !cb) return decide_elements(a, b, visible);
         if (a == b) return Step::split_self;
         const End ea = end_of(m_tree, *m_clusters, a), eb = end_of(m_tree, *m_clusters, b);
         if ((ea.element && eb.behind(*ea.element)) || (eb.element && ea.behind(*eb.element))) return Step::drop;
@@ -548,8 +538,8 @@ private:
     /// F(a -> b) B_b, plus a floor of link_floor of the scene's mean radiosity (BF refinement,
     /// Hanrahan et al. section 4: faint interactions stay coarse), both ways round; else split
     /// the larger. Summed over a leaf's links the error is then at most link_epsilon of its
-    /// irradiance plus the floors.
-    Step decide_elements(std::uint32_t a, std::uint32_t b) const {
+    /// irradiance plus the floors. `visible` gets the open share of the rays traced, if any.
+    Step decide_elements(std::uint32_t a, std::uint32_t b, float& visible) const {
         const auto& G = m_tree.geometry();
         if (wholly_behind(G[a], G[b]) || wholly_behind(G[b], G[a])) return Step::drop;
         const Spread ab = point_factor_spread(G[a], G[b]), ba = point_factor_spread(G[b], G[a]);
@@ -565,11 +555,15 @@ private:
         // link's one visible fraction misplaces up to all it brings, F B, at each of them
         // (Hanrahan et al. 1991, section 4: partly visible interactions are refined). Only
         // mixed rays tell; a pair whose rays all arrive or all stop keeps its bound.
+        // A pair linked in the last round was judged on the same rays: its share is kept.
         if (m_ff) {
-            const double v = m_ff->visible_fraction(a, b, kPartialVisibilityRays);
+            float seen = -1.0f;
+            const double v =
+                seen_visible(a, b, seen) ? double(seen) : m_ff->visible_fraction(a, b, kPartialVisibilityRays);
             if (v > 0 && v < 1 &&
                 !accepted(err_a + ab.mean * lb, err_b + ba.mean * la, ab.mean * lb, ba.mean * la, a, b))
                 return split;
+            visible = float(v);
         }
         return Step::link;
     }
@@ -586,7 +580,7 @@ private:
     }
 
     /// Carries out a decision; new pairs go to `next`.
-    void apply(const Pair& p, Step step, std::vector<Pair>& next) {
+    void apply(const Pair& p, Step step, float visible, std::vector<Pair>& next) {
         // Pairs of elements met through clusters go in the unclustered order (the oracle's
         // ties in area split the first); a planar patch does not see itself.
         auto any = [&next](std::uint32_t x, std::uint32_t y) {
@@ -599,7 +593,7 @@ private:
             case Step::drop:
                 return;
             case Step::link:
-                links.push_back({p.a, p.b});
+                links.push_back({p.a, p.b, 0.0f, visible});
                 return;
             case Step::split_self: {
                 const auto child = m_clusters->cluster(p.a).child;
@@ -639,6 +633,16 @@ private:
         return std::uint32_t(m_tree.node(i).first_child);
     }
 
+    /// The open share a pair's rays had in an earlier round (the rays depend only on the pair).
+    bool seen_visible(std::uint32_t a, std::uint32_t b, float& out) const {
+        if (!m_seen) return false;
+        const std::uint64_t key = std::uint64_t(std::min(a, b)) << 32 | std::max(a, b);
+        const auto it = std::lower_bound(m_seen->begin(), m_seen->end(), std::pair(key, -2.0f));
+        if (it == m_seen->end() || it->first != key) return false;
+        out = it->second;
+        return true;
+    }
+
     double range(std::uint32_t i) const { return i < m_b_range.size() ? m_b_range[i] : 0.0; }  // 0: made this round
 
     double luminance(std::uint32_t ref) const {
@@ -646,6 +650,7 @@ private:
     }
 
     const RaycastFormFactor* m_ff;
+    const SeenVisibility* m_seen;  // sorted by pair (min << 32 | max)
     ElementTree& m_tree;
     const ClusterTree* m_clusters;
     const HierarchicalOptions& m_options;
@@ -722,6 +727,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     // every link the last round had, computed once; only new links cast rays. Keyed by both
     // ends, sorted for binary search (refs are stable: the tree only grows).
     std::vector<std::pair<std::uint64_t, float>> known;
+    SeenVisibility seen;  // partial visibility's ray shares, kept across rounds
     auto key = [](const Link& l) { return std::uint64_t(l.a) << 32 | l.b; };
     for (int round = 0; round < options.refine_rounds; ++round) {
         const double round_start = since_start();
@@ -733,7 +739,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         {
             if (options.progress) options.progress(stage + ": refining links", 0, 1);
             Refiner refiner(tree, cluster_tree, options, min_area, B, Bc, scale, power,
-                            options.refine_partial_visibility ? &ff : nullptr);
+                            options.refine_partial_visibility ? &ff : nullptr, &seen);
             if (cluster_tree) {
                 refiner.run({{cluster_tree->root(), cluster_tree->root()}});
             } else {
@@ -758,7 +764,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
                     continue;
                 }
                 if (l.between_elements()) {
-                    links[k].fab = float(ff.pair(l.a, l.b));
+                    links[k].fab = float(l.visible >= 0 ? ff.pair(l.a, l.b, l.visible) : ff.pair(l.a, l.b));
                     continue;
                 }
                 const End ea = end_of(tree, *cluster_tree, l.a), eb = end_of(tree, *cluster_tree, l.b);
@@ -774,6 +780,13 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
             known.resize(links.size());
             for (std::size_t k = 0; k < links.size(); ++k) known[k] = {key(links[k]), links[k].fab};
             std::sort(known.begin(), known.end());
+            for (const Link& l : links)
+                if (l.visible >= 0)
+                    seen.push_back({std::uint64_t(std::min(l.a, l.b)) << 32 | std::max(l.a, l.b), l.visible});
+            std::sort(seen.begin(), seen.end());
+            seen.erase(
+                std::unique(seen.begin(), seen.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
+                seen.end());
         }
         out.refine_seconds += since_start() - round_start;
         // A round before the last only gives the oracle its B: a few parts in a thousand do

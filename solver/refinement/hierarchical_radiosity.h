@@ -31,7 +31,7 @@ struct HierarchicalOptions {
     /// elements and faint corners stop refining whatever their relative error.
     double power_epsilon = 0.0;
     /// A pair of elements that would be linked but whose refinement rays partly arrive (a
-    /// shadow's edge crosses it) counts all the link brings as its error, so it is refined
+    /// shadow's edge crosses it) adds all the link brings, F B, to its error, so it is refined
     /// unless faint or at the depth limit; one visible fraction per link blurs penumbrae.
     bool refine_partial_visibility = true;
     bool cluster_visibility = true;  // cluster links: visible fraction of rays between member centroids
@@ -50,6 +50,10 @@ struct HierarchicalOptions {
 struct HierarchicalLink {
     std::uint32_t a, b;
     float fab = 0.0f;  // F_ab; F_ba = F_ab A_a / A_b (a cluster's A: its members' total area)
+    /// The share of the refinement's rays between the two that arrived (refine_partial_visibility
+    /// traces them before linking a pair that could still be split), which fab then uses; -1
+    /// where none were traced and fab has its own.
+    float visible = -1.0f;
     /// Both ends are elements (no cluster): the link has polygons to integrate over.
     bool between_elements() const { return !ClusterTree::is_cluster(a) && !ClusterTree::is_cluster(b); }
 };

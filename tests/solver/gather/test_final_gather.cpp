@@ -176,9 +176,10 @@ TEST(FinalGather, VerticesAtTheLampHolesCornersStayOnTheCeiling) {
     }
 }
 
-// A listed source whose four children differ (one lit, three dark) is gathered as its
-// children where the point is near it: the exact factor to the lit child, not the factor to
-// the whole times the mean. With GatherSources::descend at 0 the point gets the mean's value.
+// A listed source whose children differ (one quarter lit, and in it one sixteenth) is gathered
+// through them, down to the level where min(1, r / d) spread no longer passes `descend` times a
+// node's luminance: near it, the exact factor to the lit part instead of the factor to the
+// whole times the mean; far from it, or with descend 0, the whole at its mean.
 TEST(FinalGather, NearSourceWhoseChildrenDifferIsGatheredThroughTheChildren) {
     Scene s = lamp_over_plane();  // the plane (rho 0.5) under a unit square at z = 1
     s.materials[1].emission = Rgb();
@@ -186,36 +187,47 @@ TEST(FinalGather, NearSourceWhoseChildrenDifferIsGatheredThroughTheChildren) {
     o.subdivide = false;
     const PatchMesh m(s, o);
     ElementTree tree(m.patches());
-    const std::size_t first = tree.split(1);  // the square's quarters
+    const std::size_t quarter = tree.split(1);          // the square's quarters
+    const std::size_t sixteenth = tree.split(quarter);  // the first quarter's quarters
     const auto& nodes = tree.geometry();
-    std::vector<Rgb> B(nodes.size(), Rgb());
-    B[first] = Rgb(4, 4, 4);  // one quarter lit; its parent holds the mean
-    B[1] = Rgb(1, 1, 1);
+    std::vector<Rgb> B(nodes.size(), Rgb());  // a parent holds its children's mean
+    B[sixteenth] = Rgb::gray(16.0);
+    B[quarter] = Rgb::gray(4.0);
+    B[1] = Rgb::gray(1.0);
     std::vector<std::int32_t> first_child(nodes.size(), -1);
-    first_child[1] = std::int32_t(first);
-    std::vector<double> spread(nodes.size(), 0.0);
-    spread[1] = 4.0;
+    first_child[1] = std::int32_t(quarter);
+    first_child[quarter] = std::int32_t(sixteenth);
+    std::vector<double> spread(nodes.size(), 0.0);  // max - min over the leaves below
+    spread[1] = spread[quarter] = 16.0;
     const auto vis = make_visibility("embree", nodes);
+    const std::vector<glm::dvec3> at{{0.25, 0.25, 0}, {-0.5, -0.5, 0}, {1.5, 0.25, 0}, {2.9, 2.9, 0}};
     std::vector<GatherPoint> points;
-    for (const glm::dvec3 x : {glm::dvec3(0.25, 0.25, 0), glm::dvec3(-0.5, -0.5, 0), glm::dvec3(1.5, 0.25, 0)})
-        points.push_back({x, {0, 0, 1}, 0, Rgb::gray(0.5), Rgb()});
+    for (const glm::dvec3& x : at) points.push_back({x, {0, 0, 1}, 0, Rgb::gray(0.5), Rgb()});
     const std::vector<std::uint32_t> list(points.size(), 0), patches{1};
     const std::vector<std::size_t> offsets{0, 1};
     GatherSources sources{list, offsets, patches, {}};
     sources.first_child = first_child;
     sources.spread = spread;
-    sources.descend = 0.1;
-    const auto down = final_gather(nodes, B, *vis, points, sources);
-    sources.descend = 0.0;
-    const auto whole = final_gather(nodes, B, *vis, points, sources);
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        const glm::dvec3 x = points[i].position;
-        const double lit = 0.5 * 4.0 * point_polygon_form_factor(x, {0, 0, 1}, nodes[first].polygon());
-        const double mean = 0.5 * 1.0 * point_polygon_form_factor(x, {0, 0, 1}, nodes[1].polygon());
-        std::cout << "(" << x.x << ", " << x.y << "): through the children " << down[i].g << " (exact " << lit
-                  << "), the whole " << whole[i].g << " (" << mean << ")\n";
-        EXPECT_NEAR(down[i].g, lit, 1e-9 * lit);
-        EXPECT_NEAR(whole[i].g, mean, 1e-9 * mean);
-        EXPECT_GT(std::abs(whole[i].g / lit - 1), 0.1);  // the mean is not the answer here
+    auto gathered = [&](double descend) {
+        sources.descend = descend;
+        return final_gather(nodes, B, *vis, points, sources);
+    };
+    auto from = [&](std::size_t node, std::size_t i) {
+        return 0.5 * B[node].g * point_polygon_form_factor(at[i], {0, 0, 1}, nodes[node].polygon());
+    };
+    const auto down = gathered(0.1), part = gathered(4.0), whole = gathered(0.0);
+    for (std::size_t i = 0; i < at.size(); ++i)
+        std::cout << "(" << at[i].x << ", " << at[i].y << "): descend 0.1 " << down[i].g << ", 4 " << part[i].g
+                  << ", 0 " << whole[i].g << "; the lit sixteenth " << from(sixteenth, i) << ", quarter "
+                  << from(quarter, i) << ", whole " << from(1, i) << "\n";
+    for (std::size_t i = 0; i < 3; ++i) {  // near: min(1, r / d) 16 > 0.1 at both levels
+        EXPECT_NEAR(down[i].g, from(sixteenth, i), 1e-9 * from(sixteenth, i));
+        EXPECT_GT(std::abs(whole[i].g / down[i].g - 1), 0.1);  // the mean is not the answer here
     }
+    // descend 4: near the square its quarters (at (-0.5, -0.5), 0.41 x 16 > 4 x 1), not the
+    // lit quarter's (0.24 x 16 < 4 x 4); far away (0.2 x 16 < 4 x 1) the whole square.
+    EXPECT_NEAR(part[1].g, from(quarter, 1), 1e-9 * from(quarter, 1));
+    EXPECT_GT(std::abs(part[1].g / down[1].g - 1), 0.1);
+    EXPECT_NEAR(part[3].g, from(1, 3), 1e-9 * from(1, 3));
+    for (std::size_t i = 0; i < at.size(); ++i) EXPECT_NEAR(whole[i].g, from(1, i), 1e-9 * from(1, i));
 }

@@ -28,7 +28,6 @@ namespace {
 // starts from, solved once for the tests below.
 struct PowerBoundBox {
     std::vector<ReferencePoint> reference;
-    std::unique_ptr<Visibility> visibility;
     std::unique_ptr<HierarchicalSolution> solution;
     std::unique_ptr<PatchMesh> elements;
     std::unique_ptr<Visibility> element_visibility;
@@ -42,10 +41,10 @@ const PowerBoundBox& power_bound_box() {
         MeshingOptions o;
         o.target_patches = 30;  // what `bounce solve --solver hierarchical` starts from
         const PatchMesh mesh(load_scene("cornell"), o);
-        b->visibility = make_visibility("embree", mesh.patches());
+        const auto visibility = make_visibility("embree", mesh.patches());
         HierarchicalOptions h;
         h.power_epsilon = 3e-6;
-        b->solution = std::make_unique<HierarchicalSolution>(solve_hierarchical(mesh.patches(), *b->visibility, h));
+        b->solution = std::make_unique<HierarchicalSolution>(solve_hierarchical(mesh.patches(), *visibility, h));
         b->elements = std::make_unique<PatchMesh>(b->solution->tree.conforming_mesh(b->solution->leaves));
         b->element_visibility = make_visibility("embree", b->elements->patches());
         return b;
@@ -79,17 +78,17 @@ TEST(HierarchicalCornell, RegatheredLeavesCutThePowerBoundsPointErrorAtTheProbes
               << direct.rms_smooth << " (" << direct.max_smooth << ") without; patch values " << regathered.rms_patch
               << "\n";
     EXPECT_EQ(regathered.scored, 128u);
-    // Measured 0.75% against 1.26% (8,457 elements, 0.28 M links; 0.99% against 1.48% before
+    // Measured 0.66% against 1.25% (8,457 elements, 0.28 M links; 0.99% against 1.48% before
     // partly visible links were refined and blocked ones gathered); the probes' own noise is 0.1%.
     EXPECT_LE(regathered.rms_smooth, 0.012);
     EXPECT_LE(regathered.rms_smooth, 0.8 * direct.rms_smooth);
     EXPECT_LE(regathered.max_smooth, 0.06);
 }
 
-// A link whose few refinement rays were all blocked carries nothing in the solve, but a point
-// of its element may still see part of the source: the vertex gathers through it with rays of
-// its own. By the tall block, where its shadow falls on the red wall, vertices that skipped
-// such links were several % dark.
+// A link whose refinement rays were all blocked carries nothing in the solve, but a point of
+// its element may still see part of the source: the vertex gathers through it with rays of its
+// own. By the tall block, where its shadow falls on the red wall, vertices that skipped such
+// links were several % dark.
 TEST(HierarchicalCornell, VerticesGatherThroughLinksWhoseRaysWereAllBlocked) {
     const HierarchicalSolution& sol = *power_bound_box().solution;
     HierarchicalSolution seen = sol;  // the same solution without its links of factor 0
@@ -100,5 +99,9 @@ TEST(HierarchicalCornell, VerticesGatherThroughLinksWhoseRaysWereAllBlocked) {
               << all.max_smooth << " max) gathering through them, " << without.rms_smooth << " (" << without.max_smooth
               << ") without\n";
     EXPECT_GT(blocked, 0u);
-    EXPECT_LE(all.rms_smooth, 0.8 * without.rms_smooth);
+    // Measured 0.66% against 0.72% RMS and 2.1% against 2.6% at the worst probe, with the links'
+    // visibility from the 16 rays that judged them (0.75% against 1.02% when 4 rays gave it:
+    // fewer links then stopped all their rays and missed a source partly in view).
+    EXPECT_LE(all.rms_smooth, without.rms_smooth);
+    EXPECT_LE(all.max_smooth, 0.9 * without.max_smooth);
 }
