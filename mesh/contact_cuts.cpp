@@ -7,9 +7,9 @@
 #include <numbers>
 #include <optional>
 
+#include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <glm/geometric.hpp>
 
 #include "mesh/polygon.h"
 #include "mesh/surface_tree.h"
@@ -174,8 +174,7 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
         for (const V& d : hemisphere_directions(normal)) {
             const int t = tree.first_hit(from, d);
             if (t < 0) return false;
-            if (glm::dot(frame[std::size_t(t)].normal, d) <= 0)
-                return false;  // a front face: light can come from there
+            if (glm::dot(frame[std::size_t(t)].normal, d) <= 0) return false;  // a front face: light can come from there
         }
         return true;
     };
@@ -184,120 +183,118 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
     // joined in surface order so the cuts do not depend on the thread count.
     std::vector<std::vector<CoveredRegion>> found(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& range) {
-        for (std::size_t s = range.begin(); s != range.end(); ++s) {
-            std::vector<CoveredRegion>& out = found[s];
-            const SurfaceFrame& S = frame[s];
-            if (!(S.area > 0)) continue;
-            const auto& spoly = scene.surfaces[s].vertices;
-            auto height = [&](const V& p) { return glm::dot(S.normal, p - S.origin); };
-            auto project = [&](const V& p) { return p - height(p) * S.normal; };
-            std::vector<std::vector<V>> candidates;
-            std::vector<std::pair<V, V>> segments;
+    for (std::size_t s = range.begin(); s != range.end(); ++s) {
+        std::vector<CoveredRegion>& out = found[s];
+        const SurfaceFrame& S = frame[s];
+        if (!(S.area > 0)) continue;
+        const auto& spoly = scene.surfaces[s].vertices;
+        auto height = [&](const V& p) { return glm::dot(S.normal, p - S.origin); };
+        auto project = [&](const V& p) { return p - height(p) * S.normal; };
+        std::vector<std::vector<V>> candidates;
+        std::vector<std::pair<V, V>> segments;
 
-            // Other surfaces near this one's slab.
-            V slo(std::numeric_limits<double>::infinity()), shi = -slo;
-            for (const auto& v : spoly) {
-                slo = glm::min(slo, v);
-                shi = glm::max(shi, v);
+        // Other surfaces near this one's slab.
+        V slo(std::numeric_limits<double>::infinity()), shi = -slo;
+        for (const auto& v : spoly) {
+            slo = glm::min(slo, v);
+            shi = glm::max(shi, v);
+        }
+        const std::vector<int> others = tree.in_box(slo - V(tol), shi + V(tol));
+
+        for (const int t : others) {
+            if (t == int(s) || !(frame[std::size_t(t)].area > 0)) continue;
+            const auto& tpoly = scene.surfaces[std::size_t(t)].vertices;
+            double hmin = std::numeric_limits<double>::infinity(), hmax = -hmin;
+            for (const auto& v : tpoly) {
+                hmin = std::min(hmin, height(v));
+                hmax = std::max(hmax, height(v));
             }
-            const std::vector<int> others = tree.in_box(slo - V(tol), shi + V(tol));
-
-            for (const int t : others) {
-                if (t == int(s) || !(frame[std::size_t(t)].area > 0)) continue;
-                const auto& tpoly = scene.surfaces[std::size_t(t)].vertices;
-                double hmin = std::numeric_limits<double>::infinity(), hmax = -hmin;
-                for (const auto& v : tpoly) {
-                    hmin = std::min(hmin, height(v));
-                    hmax = std::max(hmax, height(v));
+            if (hmin > tol || hmax < -tol) continue;  // apart
+            if (hmin >= -tol && hmax <= tol) {
+                // Flush with this surface: it covers it when it faces the same way and lies in
+                // front (its back towards this surface's front), like a lamp under a ceiling.
+                if (glm::dot(frame[std::size_t(t)].normal, S.normal) > 0.999 && hmin + hmax >= 0) {
+                    std::vector<V> c;
+                    for (const auto& v : tpoly) c.push_back(project(v));
+                    candidates.push_back(std::move(c));
                 }
-                if (hmin > tol || hmax < -tol) continue;  // apart
-                if (hmin >= -tol && hmax <= tol) {
-                    // Flush with this surface: it covers it when it faces the same way and lies in
-                    // front (its back towards this surface's front), like a lamp under a ceiling.
-                    if (glm::dot(frame[std::size_t(t)].normal, S.normal) > 0.999 && hmin + hmax >= 0) {
-                        std::vector<V> c;
-                        for (const auto& v : tpoly) c.push_back(project(v));
-                        candidates.push_back(std::move(c));
-                    }
-                    continue;
-                }
-                // Touches or crosses the plane: the segment it leaves there.
-                std::vector<V> pts;
-                for (std::size_t k = 0; k < tpoly.size(); ++k) {
-                    const V& a = tpoly[k];
-                    const V& b = tpoly[(k + 1) % tpoly.size()];
-                    const double ha = height(a), hb = height(b);
-                    if (std::abs(ha) <= tol) pts.push_back(project(a));
-                    if ((ha > tol && hb < -tol) || (ha < -tol && hb > tol))
-                        pts.push_back(project(a + (ha / (ha - hb)) * (b - a)));
-                }
-                if (pts.size() < 2) continue;
-                std::size_t i0 = 0, i1 = 1;
-                double best = -1;
-                for (std::size_t i = 0; i < pts.size(); ++i)
-                    for (std::size_t j = i + 1; j < pts.size(); ++j)
-                        if (const double d = glm::length(pts[i] - pts[j]); d > best) {
-                            best = d;
-                            i0 = i;
-                            i1 = j;
-                        }
-                if (best > tol) segments.emplace_back(pts[i0], pts[i1]);
+                continue;
             }
-
-            // Chain the segments into closed loops (endpoints meet within the tolerance).
-            std::vector<bool> used(segments.size(), false);
-            for (std::size_t first = 0; first < segments.size(); ++first) {
-                if (used[first]) continue;
-                used[first] = true;
-                std::vector<V> loop = {segments[first].first, segments[first].second};
-                bool closed = false;
-                for (std::size_t guard = 0; guard < segments.size() && !closed; ++guard) {
-                    bool extended = false;
-                    for (std::size_t k = 0; k < segments.size(); ++k) {
-                        if (used[k]) continue;
-                        const auto& [a, b] = segments[k];
-                        if (glm::length(a - loop.back()) <= tol) {
-                            loop.push_back(b);
-                        } else if (glm::length(b - loop.back()) <= tol) {
-                            loop.push_back(a);
-                        } else {
-                            continue;
-                        }
-                        used[k] = true;
-                        extended = true;
-                        break;
-                    }
-                    if (glm::length(loop.back() - loop.front()) <= tol && loop.size() > 3) {
-                        loop.pop_back();
-                        closed = true;
-                    }
-                    if (!extended) break;
-                }
-                if (closed) candidates.push_back(std::move(loop));
+            // Touches or crosses the plane: the segment it leaves there.
+            std::vector<V> pts;
+            for (std::size_t k = 0; k < tpoly.size(); ++k) {
+                const V& a = tpoly[k];
+                const V& b = tpoly[(k + 1) % tpoly.size()];
+                const double ha = height(a), hb = height(b);
+                if (std::abs(ha) <= tol) pts.push_back(project(a));
+                if ((ha > tol && hb < -tol) || (ha < -tol && hb > tol)) pts.push_back(project(a + (ha / (ha - hb)) * (b - a)));
             }
+            if (pts.size() < 2) continue;
+            std::size_t i0 = 0, i1 = 1;
+            double best = -1;
+            for (std::size_t i = 0; i < pts.size(); ++i)
+                for (std::size_t j = i + 1; j < pts.size(); ++j)
+                    if (const double d = glm::length(pts[i] - pts[j]); d > best) {
+                        best = d;
+                        i0 = i;
+                        i1 = j;
+                    }
+            if (best > tol) segments.emplace_back(pts[i0], pts[i1]);
+        }
 
-            for (auto& c : candidates) {
-                if (c.size() < 3) continue;
-                if (glm::dot(newell_normal(c), S.normal) < 0) std::reverse(c.begin(), c.end());
-                if (!(area_of(c) > tol * tol)) continue;
-                const auto tri = triangulate_polygon(c);
-                bool covered = !tri.empty();
-                for (std::size_t k = 0; k < tri.size() && k < 4 && covered; ++k)
-                    covered = enclosed((c[tri[k][0]] + c[tri[k][1]] + c[tri[k][2]]) / 3.0, S.normal);
-                if (!covered) continue;
-                // Convex loops stay whole; others go as their (convex) triangles.
-                bool convex = true;
-                for (std::size_t k = 0; k < c.size() && convex; ++k)
-                    convex = glm::dot(glm::cross(c[(k + 1) % c.size()] - c[k],
-                                                 c[(k + 2) % c.size()] - c[(k + 1) % c.size()]),
-                                      S.normal) >= -1e-12 * diag * diag;
-                if (convex) {
-                    out.push_back({int(s), c});
-                } else {
-                    for (const auto& t : tri) out.push_back({int(s), {c[t[0]], c[t[1]], c[t[2]]}});
+        // Chain the segments into closed loops (endpoints meet within the tolerance).
+        std::vector<bool> used(segments.size(), false);
+        for (std::size_t first = 0; first < segments.size(); ++first) {
+            if (used[first]) continue;
+            used[first] = true;
+            std::vector<V> loop = {segments[first].first, segments[first].second};
+            bool closed = false;
+            for (std::size_t guard = 0; guard < segments.size() && !closed; ++guard) {
+                bool extended = false;
+                for (std::size_t k = 0; k < segments.size(); ++k) {
+                    if (used[k]) continue;
+                    const auto& [a, b] = segments[k];
+                    if (glm::length(a - loop.back()) <= tol) {
+                        loop.push_back(b);
+                    } else if (glm::length(b - loop.back()) <= tol) {
+                        loop.push_back(a);
+                    } else {
+                        continue;
+                    }
+                    used[k] = true;
+                    extended = true;
+                    break;
                 }
+                if (glm::length(loop.back() - loop.front()) <= tol && loop.size() > 3) {
+                    loop.pop_back();
+                    closed = true;
+                }
+                if (!extended) break;
+            }
+            if (closed) candidates.push_back(std::move(loop));
+        }
+
+        for (auto& c : candidates) {
+            if (c.size() < 3) continue;
+            if (glm::dot(newell_normal(c), S.normal) < 0) std::reverse(c.begin(), c.end());
+            if (!(area_of(c) > tol * tol)) continue;
+            const auto tri = triangulate_polygon(c);
+            bool covered = !tri.empty();
+            for (std::size_t k = 0; k < tri.size() && k < 4 && covered; ++k)
+                covered = enclosed((c[tri[k][0]] + c[tri[k][1]] + c[tri[k][2]]) / 3.0, S.normal);
+            if (!covered) continue;
+            // Convex loops stay whole; others go as their (convex) triangles.
+            bool convex = true;
+            for (std::size_t k = 0; k < c.size() && convex; ++k)
+                convex = glm::dot(glm::cross(c[(k + 1) % c.size()] - c[k], c[(k + 2) % c.size()] - c[(k + 1) % c.size()]),
+                                  S.normal) >= -1e-12 * diag * diag;
+            if (convex) {
+                out.push_back({int(s), c});
+            } else {
+                for (const auto& t : tri) out.push_back({int(s), {c[t[0]], c[t[1]], c[t[2]]}});
             }
         }
+    }
     });
     for (auto& f : found) out.insert(out.end(), std::make_move_iterator(f.begin()), std::make_move_iterator(f.end()));
     return out;

@@ -44,8 +44,10 @@ Scene make_cornell_box() {
     };
 
     add("floor", facing({{552.8, 0, 0}, {0, 0, 0}, {0, 0, 559.2}, {549.6, 0, 559.2}}, inside), White);
-    add("ceiling", facing({{556, 548.8, 0}, {556, 548.8, 559.2}, {0, 548.8, 559.2}, {0, 548.8, 0}}, inside), White);
-    add("back wall", facing({{549.6, 0, 559.2}, {0, 0, 559.2}, {0, 548.8, 559.2}, {556, 548.8, 559.2}}, inside), White);
+    add("ceiling", facing({{556, 548.8, 0}, {556, 548.8, 559.2}, {0, 548.8, 559.2}, {0, 548.8, 0}}, inside),
+        White);
+    add("back wall",
+        facing({{549.6, 0, 559.2}, {0, 0, 559.2}, {0, 548.8, 559.2}, {556, 548.8, 559.2}}, inside), White);
     add("green wall", facing({{0, 0, 559.2}, {0, 0, 0}, {0, 548.8, 0}, {0, 548.8, 559.2}}, inside), Green);
     // The published red wall is not planar (its four corners are 1.07 mm off their mean
     // plane), so it is two exact triangles over the published corners: no vertex moves, the
@@ -53,7 +55,8 @@ Scene make_cornell_box() {
     add("red wall", facing({{552.8, 0, 0}, {549.6, 0, 559.2}, {556, 548.8, 559.2}}, inside), Red);
     add("red wall", facing({{552.8, 0, 0}, {556, 548.8, 559.2}, {556, 548.8, 0}}, inside), Red);
     // The light faces down, 0.1 mm below the ceiling.
-    add("light", facing({{213, 548.7, 227}, {343, 548.7, 227}, {343, 548.7, 332}, {213, 548.7, 332}}, V(278, 0, 279.5)),
+    add("light", facing({{213, 548.7, 227}, {343, 548.7, 227}, {343, 548.7, 332}, {213, 548.7, 332}},
+                        V(278, 0, 279.5)),
         Light);
 
     auto block = [&](const std::string& name, const std::vector<V>& top) {
@@ -64,8 +67,8 @@ Scene make_cornell_box() {
         add(name + " top", facing(top, centre + V(0, 1000, 0)), White);
         for (std::size_t k = 0; k < top.size(); ++k) {
             const V a = top[k], b = top[(k + 1) % top.size()];
-            add(name + " side " + std::to_string(k + 1), facing_away({a, b, V(b.x, 0, b.z), V(a.x, 0, a.z)}, centre),
-                White);
+            add(name + " side " + std::to_string(k + 1),
+                facing_away({a, b, V(b.x, 0, b.z), V(a.x, 0, a.z)}, centre), White);
         }
     };
     block("short block", {{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}});

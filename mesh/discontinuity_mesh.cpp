@@ -285,8 +285,8 @@ TracedDiscontinuities trace_discontinuities(const Scene& scene, std::size_t max_
         return parts;
     };
 
-    auto add = [&](std::size_t r, const V& pa, const V& pb, DiscontinuitySegment::Kind kind, int emitter, int occluder,
-                   const auto& open_from) {
+    auto add = [&](std::size_t r, const V& pa, const V& pb, DiscontinuitySegment::Kind kind, int emitter,
+                   int occluder, const auto& open_from) {
         const Frame& f = frames[r];
         const P2 a = f.to2(pa), b = f.to2(pb);
         if (!(glm::length(b - a) > eps)) return;

@@ -79,7 +79,9 @@ Transform parse_transform(const json& j, const Context& cx) {
     return t;
 }
 
-std::vector<std::vector<V>> unit_quad() { return {{{-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0}}}; }
+std::vector<std::vector<V>> unit_quad() {
+    return {{{-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0}}};
+}
 
 std::vector<std::vector<V>> unit_box() {
     // Counter-clockwise seen from outside.
@@ -144,8 +146,7 @@ Scene read_json_scene(const std::filesystem::path& path) {
     Context top{path.string()};
     top.only_keys(doc, {"name", "materials", "objects"});
     Scene scene;
-    scene.name =
-        doc.contains("name") && doc["name"].is_string() ? doc["name"].get<std::string>() : path.stem().string();
+    scene.name = doc.contains("name") && doc["name"].is_string() ? doc["name"].get<std::string>() : path.stem().string();
 
     std::map<std::string, int> byname;
     if (doc.contains("materials")) {
@@ -157,8 +158,7 @@ Scene read_json_scene(const std::filesystem::path& path) {
             if (it->contains("reflectance")) m.reflectance = cx.rgb((*it)["reflectance"], "reflectance");
             if (it->contains("emission")) m.emission = cx.rgb((*it)["emission"], "emission");
             if (m.reflectance.min() < 0 || m.reflectance.max() > 1)
-                cx.fail("reflectance out of range, got " + m.reflectance.to_string() +
-                        " (expected 0 to 1 per channel)");
+                cx.fail("reflectance out of range, got " + m.reflectance.to_string() + " (expected 0 to 1 per channel)");
             if (m.emission.min() < 0)
                 cx.fail("emission out of range, got " + m.emission.to_string() + " (expected >= 0 per channel)");
             byname[m.name] = int(scene.materials.size());
@@ -174,8 +174,8 @@ Scene read_json_scene(const std::filesystem::path& path) {
         cx.only_keys(o, {"type", "file", "material", "transform", "flip", "inward", "name"});
         if (!o.contains("type") || !o["type"].is_string()) cx.fail("needs a 'type' (quad, box or mesh)");
         const std::string type = o["type"];
-        const std::string name =
-            o.contains("name") && o["name"].is_string() ? o["name"].get<std::string>() : type + " " + std::to_string(k);
+        const std::string name = o.contains("name") && o["name"].is_string() ? o["name"].get<std::string>()
+                                                                                : type + " " + std::to_string(k);
         int material = -1;
         if (o.contains("material")) {
             if (!o["material"].is_string()) cx.fail("'material' must name an entry of 'materials'");

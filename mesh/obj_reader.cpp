@@ -27,7 +27,8 @@ struct Lines {
 };
 
 Rgb parse_rgb(const std::vector<std::string_view>& w, const std::string& where) {
-    if (w.size() != 2 && w.size() != 4) throw InputError(where + ": " + std::string(w[0]) + " needs 1 or 3 numbers");
+    if (w.size() != 2 && w.size() != 4)
+        throw InputError(where + ": " + std::string(w[0]) + " needs 1 or 3 numbers");
     Rgb c;
     for (int k = 0; k < 3; ++k) {
         double v;
@@ -93,8 +94,7 @@ Scene read_obj(const std::filesystem::path& path) {
             if (w.size() < 4) throw InputError(where + ": vertex needs 3 coordinates");
             glm::dvec3 p;
             for (int k = 0; k < 3; ++k) {
-                if (!parse_double(w[1 + k], p[k]))
-                    throw InputError(where + ": vertex has a bad number '" + std::string(w[1 + k]) + "'");
+                if (!parse_double(w[1 + k], p[k])) throw InputError(where + ": vertex has a bad number '" + std::string(w[1 + k]) + "'");
                 if (!std::isfinite(p[k])) throw InputError(where + ": vertex has a NaN or infinite coordinate");
             }
             verts.push_back(p);

@@ -53,9 +53,9 @@ ManifoldFaces manifold_faces(std::size_t point_count, const std::vector<std::vec
     };
     auto join = [&](std::size_t a, std::size_t b) { root[find(a)] = find(b); };
     struct Side {
-        std::uint64_t key;   // the edge's points, smaller first
+        std::uint64_t key;  // the edge's points, smaller first
         std::size_t corner;  // the corner the side leaves from
-        bool forward;        // runs from the smaller point to the larger
+        bool forward;       // runs from the smaller point to the larger
     };
     // A face that names a point twice (corners of a sliver welded together) takes copies of
     // all its points: it joins nothing.
@@ -72,8 +72,9 @@ ManifoldFaces manifold_faces(std::size_t point_count, const std::vector<std::vec
             const std::uint32_t u = faces[f][k], w = faces[f][(k + 1) % faces[f].size()];
             sides.push_back({std::uint64_t(std::min(u, w)) << 32 | std::max(u, w), first[f] + k, u < w});
         }
-    std::sort(sides.begin(), sides.end(),
-              [](const Side& a, const Side& b) { return a.key != b.key ? a.key < b.key : a.corner < b.corner; });
+    std::sort(sides.begin(), sides.end(), [](const Side& a, const Side& b) {
+        return a.key != b.key ? a.key < b.key : a.corner < b.corner;
+    });
     auto next_corner = [&](std::size_t c) {  // the corner after c in its face
         const std::size_t f = std::size_t(std::upper_bound(first.begin(), first.end(), c) - first.begin()) - 1;
         return c + 1 < first[f + 1] ? c + 1 : first[f];
@@ -92,7 +93,7 @@ ManifoldFaces manifold_faces(std::size_t point_count, const std::vector<std::vec
     ManifoldFaces out;
     out.point_of.resize(point_count);
     for (std::size_t v = 0; v < point_count; ++v) out.point_of[v] = std::uint32_t(v);
-    std::vector<std::size_t> owner(point_count, SIZE_MAX);   // the fan root that keeps the point itself
+    std::vector<std::size_t> owner(point_count, SIZE_MAX);  // the fan root that keeps the point itself
     std::unordered_map<std::size_t, std::uint32_t> copy_of;  // fan root -> its copy of the point
     out.faces.resize(faces.size());
     std::vector<bool> counted(point_count, false);
@@ -240,7 +241,9 @@ MeshPlan plan_mesh(const Scene& scene, const MeshingOptions& options) {
 
 }  // namespace
 
-double planned_patches(const Scene& scene, const MeshingOptions& options) { return plan_mesh(scene, options).patches; }
+double planned_patches(const Scene& scene, const MeshingOptions& options) {
+    return plan_mesh(scene, options).patches;
+}
 
 PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     // Plan every piece first, so an absurd request is refused before anything is allocated.
@@ -299,8 +302,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     std::vector<std::vector<const CoveredRegion*>> covered(scene.surfaces.size());
     if (cut)
         for (const auto& c : scene.covered)
-            if (c.surface >= 0 && std::size_t(c.surface) < covered.size())
-                covered[std::size_t(c.surface)].push_back(&c);
+            if (c.surface >= 0 && std::size_t(c.surface) < covered.size()) covered[std::size_t(c.surface)].push_back(&c);
     std::vector<std::pair<V, OpenPatchMesh::VertexHandle>> cut_points;  // of the current surface
     int cut_surface = -1;
     auto cut_vertex = [&](int si, const V& p, double tolerance) {
@@ -326,9 +328,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         // on the seam: no T-vertex where the two meet. (At creases, as in the uniform mesh, each
         // surface keeps its own vertices.)
         const std::size_t n = scene.surfaces.size();
-        auto emits = [&](std::size_t si) {
-            return scene.materials[std::size_t(scene.surfaces[si].material)].emission.max() > 0;
-        };
+        auto emits = [&](std::size_t si) { return scene.materials[std::size_t(scene.surfaces[si].material)].emission.max() > 0; };
         std::vector<std::vector<std::size_t>> neighbours(n);
         for (std::size_t i = 0; i < n; ++i) {
             const auto& a = scene.surfaces[i].vertices;
@@ -368,8 +368,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         std::vector<SurfaceTriangulation> first(n);
         for (std::size_t si = 0; si < n; ++si)
             if (wanted[si])
-                first[si] =
-                    triangulate_surface(scene, int(si), traced.per_surface[si], plan.max_area, options.aspect_bound);
+                first[si] = triangulate_surface(scene, int(si), traced.per_surface[si], plan.max_area, options.aspect_bound);
         // The seams: each surface again, with its neighbours' points on the shared edges that it
         // lacks put in after refinement (mesh/discontinuity_mesh.h).
         std::vector<SurfaceTriangulation> with_seams = first;
@@ -443,8 +442,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         for (const CoveredRegion* c : covered[std::size_t(si)]) {
             std::vector<std::vector<V>> next;
             for (const auto& piece : pieces)
-                for (auto& q : subtract_convex(piece, c->polygon, n / (2 * area), 1e-9 * area))
-                    next.push_back(std::move(q));
+                for (auto& q : subtract_convex(piece, c->polygon, n / (2 * area), 1e-9 * area)) next.push_back(std::move(q));
             pieces = std::move(next);
         }
         if (pieces.size() == 1 && pieces[0] == poly) return emit_face(si, vh);
@@ -453,8 +451,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
             std::vector<OpenPatchMesh::VertexHandle> h;
             for (const V& p : piece) {
                 const auto corner = std::find(poly.begin(), poly.end(), p);
-                h.push_back(corner != poly.end() ? vh[std::size_t(corner - poly.begin())]
-                                                 : cut_vertex(si, p, tolerance));
+                h.push_back(corner != poly.end() ? vh[std::size_t(corner - poly.begin())] : cut_vertex(si, p, tolerance));
             }
             // Drop repeated handles (points that merged), then fan anything beyond a quad.
             h.erase(std::unique(h.begin(), h.end()), h.end());

@@ -40,8 +40,8 @@ void Scene::validate() const {
                 throw InputError("material '" + m.name + "': reflectance out of range, got " +
                                  m.reflectance.to_string() + " (expected 0 to 1 per channel)");
             if (!std::isfinite(e) || e < 0.0)
-                throw InputError("material '" + m.name + "': emission out of range, got " + m.emission.to_string() +
-                                 " (expected finite and >= 0 per channel)");
+                throw InputError("material '" + m.name + "': emission out of range, got " +
+                                 m.emission.to_string() + " (expected finite and >= 0 per channel)");
         }
     }
     for (const auto& s : surfaces) {

@@ -36,8 +36,8 @@ std::string length_text(double value, const std::string& units);
 /// counter-clockwise order seen from the front; the front is the side that emits and reflects.
 struct Surface {
     std::vector<glm::dvec3> vertices;
-    int material = 0;    // index into Scene::materials
-    std::string object;  // object or group name of the input
+    int material = 0;     // index into Scene::materials
+    std::string object;   // object or group name of the input
     SourceLocation where;
 };
 
@@ -54,7 +54,7 @@ struct Scene {
     std::string units;  // length unit of the coordinates, for messages ("mm"); empty: unknown
     std::vector<Material> materials;
     std::vector<Surface> surfaces;
-    std::vector<std::string> warnings;   // problems that were repaired, to show the user
+    std::vector<std::string> warnings;  // problems that were repaired, to show the user
     std::vector<CoveredRegion> covered;  // found by load_scene; empty: mesh every surface whole
 
     /// Checks reflectance in [0,1], emission >= 0 and finite coordinates; throws InputError

@@ -60,10 +60,11 @@ LinkSources link_sources(const HierarchicalSolution& sol, const PatchMesh& eleme
 
 /// GatherSources::descend for the vertices: a vertex goes down from a linked source to its
 /// children where their spread, times the kernel's variation over the source (r / d), passes a
-/// tenth of what the source brings. On the Cornell box (0.1% probes) it took the point data at
-/// power epsilon 3e-5 / 1e-5 from 1.83% / 1.26% to 1.36% / 1.02% for a seventh more time (0.3:
-/// 1.67% / 1.09%; 0.05: 1.33% / 0.99% for a quarter more); at 1e-6 and without the power bound it
-/// changed nothing. The leaves' centres gained nothing from it.
+/// tenth of what the source brings. On the Cornell box (`bounce compare --meshes`, 0.1% probes)
+/// it took the point data at power epsilon 3e-5 / 1e-5 from 1.71% / 1.24% to 1.26% / 0.91% for
+/// about a tenth more time; at 1e-6 and without the power bound it changed nothing. By the
+/// probe script of the notes, 0.3 gave 1.67% / 1.09% and 0.05 1.33% / 0.99% (0.1: 1.36%
+/// / 1.02%) for a quarter more time. The leaves' centres gained nothing from it.
 constexpr double kDescendShare = 0.1;
 
 /// Every leaf's value gathered at its centre through its own links (the leaf's list of

@@ -31,11 +31,13 @@ double hierarchical_gather_pairs(const HierarchicalSolution& solution, const Pat
 /// children where their values differ (GatherSources::descend); what came over links with a
 /// cluster end is added as the solve computed it (solution.cluster_irradiance). Its cost is
 /// at least vertices x links per path, not vertices x leaves; over kMaxGatherPairs of those
-/// (not counting the children gone down to) it returns over_budget. `visibility` may be over the elements or over the
-/// input patches. A solution refined with a power epsilon first re-gathers every leaf at its centre the same way and
-/// the vertices gather from those values: its links may hand a whole coarse element one mean (on the box, power epsilon
-/// 3e-6: point data 1.48% -> 0.99% RMS off the 0.1% probes, for about twice the gather; progress stage "gathering:
-/// element centres"). Mode "centres" then reports those centre values, with no progress of its own.
+/// (not counting the children gone down to) it returns over_budget. `visibility` may be over
+/// the elements or over the input patches. A solution refined with a power epsilon first
+/// re-gathers every leaf at its centre the same way and the vertices gather from those
+/// values: its links may hand a whole coarse element one mean (on the box, power epsilon
+/// 3e-6: point data 1.48% -> 0.99% RMS off the 0.1% probes, for about twice the gather;
+/// progress stage "gathering: element centres"). Mode "centres" then reports those centre
+/// values, with no progress of its own.
 GatherOutcome gather_hierarchical_point_values(
     const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility, SolveResult& res,
     const std::string& mode, const std::atomic<bool>* cancel = nullptr,

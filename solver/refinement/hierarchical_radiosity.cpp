@@ -439,8 +439,14 @@ void finish_result(const ElementTree& tree, const std::vector<Rgb>& B, const std
     }
 }
 
-/// Pairs whose partial visibility refinement has traced, with the open share of their rays.
+/// Pairs whose partial visibility refinement has traced, with the open share of their rays,
+/// sorted by pair_key.
 using SeenVisibility = std::vector<std::pair<std::uint64_t, float>>;
+
+/// A pair of elements either way round as one key (its rays do not depend on the order).
+std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
+    return std::uint64_t(std::min(a, b)) << 32 | std::max(a, b);
+}
 
 /// Rays that judge whether a shadow's edge crosses a pair about to be linked: with 4, an
 /// element a third in shadow kept all its rays lit one time in five.
@@ -636,7 +642,7 @@ private:
     /// The open share a pair's rays had in an earlier round (the rays depend only on the pair).
     bool seen_visible(std::uint32_t a, std::uint32_t b, float& out) const {
         if (!m_seen) return false;
-        const std::uint64_t key = std::uint64_t(std::min(a, b)) << 32 | std::max(a, b);
+        const std::uint64_t key = pair_key(a, b);
         const auto it = std::lower_bound(m_seen->begin(), m_seen->end(), std::pair(key, -2.0f));
         if (it == m_seen->end() || it->first != key) return false;
         out = it->second;
@@ -650,7 +656,7 @@ private:
     }
 
     const RaycastFormFactor* m_ff;
-    const SeenVisibility* m_seen;  // sorted by pair (min << 32 | max)
+    const SeenVisibility* m_seen;
     ElementTree& m_tree;
     const ClusterTree* m_clusters;
     const HierarchicalOptions& m_options;
@@ -781,8 +787,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
             for (std::size_t k = 0; k < links.size(); ++k) known[k] = {key(links[k]), links[k].fab};
             std::sort(known.begin(), known.end());
             for (const Link& l : links)
-                if (l.visible >= 0)
-                    seen.push_back({std::uint64_t(std::min(l.a, l.b)) << 32 | std::max(l.a, l.b), l.visible});
+                if (l.visible >= 0) seen.push_back({pair_key(l.a, l.b), l.visible});
             std::sort(seen.begin(), seen.end());
             seen.erase(
                 std::unique(seen.begin(), seen.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),

@@ -90,10 +90,11 @@ struct HierarchicalSolution {
 /// visibility (RaycastFormFactor, both directions from one integral); otherwise the larger of
 /// the two is split into its quadtree children. With `refine_partial_visibility` a pair so
 /// accepted whose few rays partly arrive is judged again with all it brings, F B, added to
-/// its error (a shadow's edge crosses it), and split unless still within the bounds. The first refinement uses emission
-/// plus an ambient estimate for B, later rounds the last solution's B. The solution iterates gather (every element
-/// collects F B over its links) and push-pull (irradiance pushed down to the leaves, radiosity pulled up as
-/// area-weighted means) until it settles. The link count grows like N, not N^2.
+/// its error (a shadow's edge crosses it), and split unless still within the bounds. The
+/// first refinement uses emission plus an ambient estimate for B, later rounds the last
+/// solution's B. The solution iterates gather (every element collects F B over its links)
+/// and push-pull (irradiance pushed down to the leaves, radiosity pulled up as area-weighted
+/// means) until it settles. The link count grows like N, not N^2.
 ///
 /// With `clustering` (Smits, Arvo and Greenberg 1994; Sillion 1995) the patches are the
 /// leaves of a binary cluster hierarchy (cluster_tree.h) and refinement starts from the root
