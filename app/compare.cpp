@@ -58,6 +58,7 @@ struct CompareCommand {
     // --meshes: hierarchical quadtree depth under each coarse patch; 3 makes the Cornell box's
     // smallest elements those of the uniform elements' level 3 (5,760 over its 90 patches).
     int max_level = 3;
+    int refine_rounds = HierarchicalOptions{}.refine_rounds;  // --meshes: hierarchical refine-and-solve rounds
     // --meshes: hierarchical power epsilons (BF refinement on power), each with every link epsilon
     std::vector<double> power_epsilons = {HierarchicalOptions{}.power_epsilon};
     std::string reference;  // --reference: a `bounce reference` CSV; empty: probes cached in `out`
@@ -201,6 +202,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
             h.link_epsilon = eps;
             h.power_epsilon = power_eps;
             h.max_level = c.max_level;
+            h.refine_rounds = c.refine_rounds;
             h.cancel = &g_interrupted;
             const HierarchicalSolution s = solve_hierarchical(P, *visibility, h);
             const PatchMesh elements = s.tree.conforming_mesh(s.leaves);
@@ -443,6 +445,11 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
                      "--meshes: hierarchical power epsilons, each run with every link epsilon (0: off)")
         ->delimiter(',')
         ->check(in_range(0.0, 1.0))
+        ->capture_default_str();
+    cmp_cmd
+        ->add_option("--refine-rounds", cmp->refine_rounds,
+                     "--meshes: hierarchical refine-and-solve rounds (multigridding)")
+        ->check(in_range(1, 100))
         ->capture_default_str();
     cmp_cmd->add_option("--max-level", cmp->max_level, "--meshes: hierarchical quadtree depth under each coarse patch")
         ->check(in_range(0, 12))

@@ -105,8 +105,8 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         const double n = double(sol.leaves.size());
         settings << " solver=hierarchical link_epsilon=" << h.link_epsilon << " power_epsilon=" << h.power_epsilon
                  << " link_floor=" << h.link_floor << " max_level=" << h.max_level
-                 << " clustering=" << (h.clustering ? 1 : 0) << " elements=" << sol.leaves.size()
-                 << " links=" << sol.links.size();
+                 << " refine_rounds=" << h.refine_rounds << " clustering=" << (h.clustering ? 1 : 0)
+                 << " elements=" << sol.leaves.size() << " links=" << sol.links.size();
         summary << "patches " << mesh.size() << ", hierarchical: " << sol.leaves.size() << " elements, "
                 << sol.links.size() << " links (" << 100.0 * double(sol.links.size()) / (n * n) << "% of N^2; "
                 << sol.cluster_links << " with a cluster, " << sol.clusters << " clusters), " << res.steps
@@ -322,6 +322,12 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                      "hierarchical: also link when the power a link could misplace is below this share of the "
                      "scene's power (BF refinement; 0: off)")
         ->check(in_range(0.0, 1.0))
+        ->capture_default_str();
+    solve_cmd
+        ->add_option("--refine-rounds", solve->hierarchical.refine_rounds,
+                     "hierarchical: refine the links and solve this many times, each round refining with the last "
+                     "one's radiosity and keeping the form factors it had (multigridding)")
+        ->check(in_range(1, 100))
         ->capture_default_str();
     solve_cmd->add_flag("--no-clustering", solve->no_clustering,
                         "hierarchical: start from every pair of input patches, not from one cluster hierarchy "
