@@ -46,7 +46,7 @@ struct HierarchicalOptions {
     std::size_t max_iterations = 1000;
     FormFactorOptions form_factors;
     const std::atomic<bool>* cancel = nullptr;
-    /// Called with a stage ("round 2/3: link form factors"), items done and their total;
+    /// Called with a stage ("round 1/1: link form factors"), items done and their total;
     /// from worker threads too.
     std::function<void(const std::string& stage, std::size_t done, std::size_t total)> progress;
 };
