@@ -427,8 +427,11 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
         ->delimiter(',')
         ->capture_default_str();
     cmp_cmd
-        ->add_option("--methods", cmp->mesh_methods,
-                     "--meshes: uniform (elements), patches, discontinuity, adaptive, hierarchical (default: all)")
+        ->add_option(
+            "--methods", cmp->mesh_methods,
+            "--meshes: uniform (elements), patches, discontinuity, adaptive (the receiver-only refinement solve "
+            "--adaptive ran before it became the hierarchical solver refining on power, to compare), "
+            "hierarchical (default: all)")
         ->delimiter(',')
         ->check(
             CLI::IsMember(std::vector<std::string>{"uniform", "patches", "discontinuity", "adaptive", "hierarchical"}));

@@ -23,7 +23,6 @@
 #include "solver/linear/convergence.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/linear/solver.h"
-#include "solver/refinement/adaptive_radiosity.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
 #include "viewer/paraview_script.h"
@@ -49,12 +48,20 @@ struct SolveCommand {
     std::size_t series = 0;
     RenderOptions render;
     int element_split = 1;
-    bool adaptive = false;
-    AdaptiveOptions adaptive_options;
+    bool adaptive = false;  // the hierarchical solver with the power bound (kAdaptivePowerEpsilon)
+    // Options of the receiver-only refinement --adaptive ran before: refused with a message.
+    std::vector<std::string> retired;
     HierarchicalOptions hierarchical;
     bool no_clustering = false;       // hierarchical: refine every pair of patches, no cluster hierarchy
     std::string gather = "vertices";  // point values: final gather at the vertices (point_values.h)
 };
+
+/// A number as a stream prints it (1e-05).
+std::string number_text(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+}
 
 std::filesystem::path paraview_script_path(const std::filesystem::path& vtu) {
     return vtu.parent_path() / (vtu.stem().string() + "_paraview.py");
@@ -70,16 +77,14 @@ std::string file_status(const SolveResult& res) {
     return "status = " + res.status + ", converged = " + (res.converged ? "1" : "0");
 }
 
-/// --adaptive and --solver hierarchical: quadtree elements over the patches, exported as a
-/// conforming mesh of the leaves.
+/// --solver hierarchical, and --adaptive (the same with the power bound): quadtree elements
+/// over the patches, exported as a conforming mesh of the leaves.
 int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std::filesystem::path& out) {
     if (s.element_split > 1) throw std::invalid_argument("--elements does not combine with --adaptive or hierarchical");
     if (s.method != "raycast") throw std::invalid_argument("--adaptive and hierarchical use raycast form factors");
-    const bool hierarchical = s.solver == "hierarchical";
     CommonOptions roots = o;
     // Start coarse: the elements refine where the light needs it.
-    if (hierarchical && default_meshing(o)) roots.meshing.target_patches = 30;
-    if (!hierarchical && default_meshing(o)) roots.meshing.target_patches = 150;
+    if (default_meshing(o)) roots.meshing.target_patches = 30;
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
     const auto visibility = make_visibility(o.visibility, mesh.patches());
@@ -90,8 +95,9 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     std::ostringstream settings, summary;
     settings << "patches=" << mesh.size() << " rays=" << with_default_rays(s.ff, kRefinementRays).visibility_rays
              << " seed=" << s.ff.seed;
-    if (hierarchical) {
+    {
         HierarchicalOptions h = s.hierarchical;
+        if (s.adaptive && !(h.power_epsilon > 0)) h.power_epsilon = kAdaptivePowerEpsilon;
         h.clustering = !s.no_clustering;
         h.form_factors = s.ff;
         h.cancel = &g_interrupted;
@@ -107,27 +113,12 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
                  << " link_floor=" << h.link_floor << " max_level=" << h.max_level
                  << " refine_rounds=" << h.refine_rounds << " clustering=" << (h.clustering ? 1 : 0)
                  << " elements=" << sol.leaves.size() << " links=" << sol.links.size();
-        summary << "patches " << mesh.size() << ", hierarchical: " << sol.leaves.size() << " elements, "
-                << sol.links.size() << " links (" << 100.0 * double(sol.links.size()) / (n * n) << "% of N^2; "
-                << sol.cluster_links << " with a cluster, " << sol.clusters << " clusters), " << res.steps
-                << " iterations, " << res.seconds << " s\n";
-    } else {
-        AdaptiveOptions a = s.adaptive_options;
-        a.form_factors = s.ff;
-        a.cancel = &g_interrupted;
-        a.progress = [&](std::size_t round, const AdaptiveRound& r) {
-            progress.update({round, 0, r.rms_estimate, a.target_error, r.seconds});
-        };
-        AdaptiveSolution sol = solve_adaptive(mesh.patches(), *visibility, a);
-        progress.finish();
-        settle_adaptive_status(sol, a);
-        elements.emplace(sol.tree.conforming_mesh(sol.leaves));
-        res = std::move(sol.result);
-        settings << " solver=adaptive target_error=" << a.target_error << " max_patches=" << a.max_elements
-                 << " elements=" << sol.leaves.size() << " rounds=" << sol.rounds.size();
-        summary << "patches " << mesh.size() << ", adaptive: " << sol.leaves.size() << " elements after "
-                << sol.rounds.size() << " rounds, RMS error estimate " << sol.rounds.back().rms_estimate << " (target "
-                << a.target_error << "), " << res.seconds << " s\n";
+        summary << "patches " << mesh.size() << ", hierarchical"
+                << (s.adaptive ? " (--adaptive: power epsilon " + number_text(h.power_epsilon) + ")" : "") << ": "
+                << sol.leaves.size() << " elements, " << sol.links.size() << " links ("
+                << 100.0 * double(sol.links.size()) / (n * n) << "% of N^2; " << sol.cluster_links
+                << " with a cluster, " << sol.clusters << " clusters), " << res.steps << " iterations, " << res.seconds
+                << " s\n";
     }
     if (!o.quiet)
         for (const auto& w : elements->warnings()) std::cerr << "warning: " << w << "\n";
@@ -164,6 +155,12 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         check_output(s.png);
         check_picture_path(s.png);
     }
+    if (!s.retired.empty())
+        throw std::invalid_argument(s.retired.front() +
+                                    " belonged to the receiver-only refinement --adaptive ran before, now retired: "
+                                    "--adaptive is the hierarchical solver refining on power; set --power-epsilon "
+                                    "(with --adaptive " +
+                                    number_text(kAdaptivePowerEpsilon) + " unless given)");
     if (s.adaptive || s.solver == "hierarchical") return run_solve_elements(o, s, out);
     if (!s.log_csv.empty()) check_output(s.log_csv);
 
@@ -305,14 +302,13 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->check(CLI::IsMember(gather_modes()))
         ->capture_default_str();
     solve_cmd->add_flag("--adaptive", solve->adaptive,
-                        "adaptive subdivision: patches (150 unless meshing is given) refined into elements where the "
-                        "radiosity varies");
-    solve_cmd
-        ->add_option("--target-error", solve->adaptive_options.target_error,
-                     "adaptive: stop when the RMS error estimate is below this (relative; 0.05)")
-        ->check(kPositive);
-    solve_cmd->add_option("--max-patches", solve->adaptive_options.max_elements, "adaptive: element budget (20000)")
-        ->check(in_range(std::size_t(1), std::size_t(10000000)));
+                        "model no more than the scene needs: the hierarchical solver refining on power "
+                        "(--power-epsilon " +
+                            number_text(kAdaptivePowerEpsilon) + " unless one above 0 is given)");
+    for (const char* name : {"--target-error", "--max-patches"})
+        solve_cmd->add_option_function<std::string>(
+            name, [solve, name](const std::string&) { solve->retired.push_back(name); },
+            "retired with --adaptive's receiver-only refinement (use --power-epsilon)");
     solve_cmd
         ->add_option("--link-epsilon", solve->hierarchical.link_epsilon,
                      "hierarchical: link error bound, a share of what the link brings (0.1)")

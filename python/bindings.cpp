@@ -41,7 +41,6 @@
 #include "solver/gather/point_values.h"
 #include "solver/linear/solver.h"
 #include "solver/reference/path_tracer.h"
-#include "solver/refinement/adaptive_radiosity.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
 #include "viewer/pending_output.h"
@@ -373,20 +372,25 @@ std::shared_ptr<SolutionData> solve(
     std::optional<int> rays, int receiver_samples, int hemicube_res, bool hemicube_jitter, std::uint64_t seed,
     std::size_t max_matrix_mb, const std::string& gather, bool residuals,
     const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& reference, bool adaptive,
-    double target_error, std::int64_t max_patches, double link_epsilon, int max_level, bool clustering,
-    const py::object& progress) {
+    const py::object& target_error, const py::object& max_patches, double link_epsilon,
+    std::optional<double> power_epsilon, int max_level, bool clustering, const py::object& progress) {
     std::vector<std::string> solvers = solver_names();
     solvers.push_back("hierarchical");
     check_member("solver", solver_name, solvers);
-    const bool hierarchical = solver_name == "hierarchical";
-    const bool elements = hierarchical || adaptive;
+    const bool hierarchical = solver_name == "hierarchical" || adaptive;
+    const bool elements = hierarchical;
     if (elements && method != "raycast") throw InputError("adaptive and hierarchical use raycast form factors");
-    if (adaptive && solver_name != "shooting")
-        throw InputError("adaptive solves its own patch system: it takes no solver (got '" + solver_name + "')");
+    if (adaptive && solver_name != "shooting" && solver_name != "hierarchical")
+        throw InputError("adaptive is the hierarchical solver: it takes no other (got '" + solver_name + "')");
+    for (const auto& [name, value] : {std::pair("target_error", &target_error), std::pair("max_patches", &max_patches)})
+        if (!value->is_none())
+            throw InputError(std::string(name) +
+                             " belonged to the receiver-only refinement adaptive ran before, now retired: adaptive is "
+                             "the hierarchical solver refining on power; set power_epsilon");
     if (elements && (residuals || reference))
         throw InputError("residuals and reference apply to the patch solvers, not to adaptive or hierarchical");
-    check_positive("target_error", target_error);
-    check_range("max_patches", double(max_patches), 1, 1e7);
+    const double power = power_epsilon.value_or(adaptive ? kAdaptivePowerEpsilon : 0.0);
+    check_range("power_epsilon", power, 0.0, 1.0);
     check_positive("link_epsilon", link_epsilon);
     check_range("max_level", max_level, 0, 12);
     const FormFactorOptions f =
@@ -422,6 +426,7 @@ std::shared_ptr<SolutionData> solve(
                 if (hierarchical) {
                     HierarchicalOptions h;
                     h.link_epsilon = link_epsilon;
+                    h.power_epsilon = power;
                     h.max_level = max_level;
                     h.clustering = clustering;
                     h.form_factors = f;
@@ -432,27 +437,9 @@ std::shared_ptr<SolutionData> solve(
                     res = std::move(sol.result);
                     settings << "patches=" << P.size()
                              << " rays=" << with_default_rays(f, kRefinementRays).visibility_rays << " seed=" << seed
-                             << " solver=hierarchical link_epsilon=" << link_epsilon << " max_level=" << max_level
-                             << " clustering=" << (clustering ? 1 : 0) << " elements=" << sol.leaves.size()
-                             << " links=" << sol.links.size();
-                } else {
-                    AdaptiveOptions a;
-                    a.target_error = target_error;
-                    a.max_elements = std::size_t(max_patches);
-                    a.form_factors = f;
-                    a.cancel = &job.cancel;
-                    a.progress = [&](std::size_t round, const AdaptiveRound& r) {
-                        job.report({"adaptive", round, 0, r.rms_estimate, target_error, r.seconds});
-                    };
-                    AdaptiveSolution sol = solve_adaptive(P, *visibility, a);
-                    if (job.cancel) return;
-                    settle_adaptive_status(sol, a);
-                    out->mesh = std::make_shared<const PatchMesh>(sol.tree.conforming_mesh(sol.leaves));
-                    res = std::move(sol.result);
-                    settings << "patches=" << P.size()
-                             << " rays=" << with_default_rays(f, kRefinementRays).visibility_rays << " seed=" << seed
-                             << " solver=adaptive target_error=" << target_error << " max_patches=" << max_patches
-                             << " elements=" << sol.leaves.size() << " rounds=" << sol.rounds.size();
+                             << " solver=hierarchical link_epsilon=" << link_epsilon << " power_epsilon=" << power
+                             << " max_level=" << max_level << " clustering=" << (clustering ? 1 : 0)
+                             << " elements=" << sol.leaves.size() << " links=" << sol.links.size();
                 }
                 // The elements are what the solution shows: gather from them, with visibility among them.
                 const auto element_visibility = make_visibility(s->visibility, out->mesh->patches());
@@ -677,7 +664,7 @@ PYBIND11_MODULE(_bounce, m) {
 
     py::class_<Progress>(m, "Progress", "What a long call reports to its progress callback.")
         .def_readonly("stage", &Progress::stage,
-                      "'form factors', 'solve', 'adaptive' (step: round, value: RMS error estimate), "
+                      "'form factors', 'solve', "
                       "'gathering: vertices', 'gathering: centres', 'gathering: element centres' or "
                       "'path tracing: points'")
         .def_readonly("step", &Progress::step, "rows, shots, sweeps, rounds or points done")
@@ -912,12 +899,13 @@ PYBIND11_MODULE(_bounce, m) {
           py::arg("rays") = py::none(), py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256,
           py::arg("hemicube_jitter") = false, py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048,
           py::arg("gather") = "vertices", py::arg("residuals") = false, py::arg("reference") = py::none(),
-          py::arg("adaptive") = false, py::arg("target_error") = 0.05, py::arg("max_patches") = 20000,
-          py::arg("link_epsilon") = 0.1, py::arg("max_level") = 4, py::arg("clustering") = true,
-          py::arg("progress") = py::none(),
+          py::arg("adaptive") = false, py::arg("target_error") = py::none(), py::arg("max_patches") = py::none(),
+          py::arg("link_epsilon") = 0.1, py::arg("power_epsilon") = py::none(), py::arg("max_level") = 4,
+          py::arg("clustering") = true, py::arg("progress") = py::none(),
           "Radiosity of the scene, as `bounce solve` computes it with the same options (the keywords are its "
           "flags: solver shooting, gauss-seidel, jacobi, direct or hierarchical; form_factors raycast, exact, "
-          "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive). "
+          "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive, the hierarchical "
+          "solver with power_epsilon 1e-5 unless given; target_error and max_patches are retired and refused). "
           "residuals=True builds the matrix for shooting too, so its history has residuals; reference (N x 3) "
           "adds the error columns. progress(bounce.Progress) is called up to 20 times a second; Ctrl-C raises "
           "KeyboardInterrupt within a shot or sweep.");

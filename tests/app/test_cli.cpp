@@ -427,10 +427,10 @@ TEST(Cli, VisibilityBackendsGiveTheSameSolution) {
 
 TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
     test::TempDir dir;
-    const auto a =
-        bounce_run("solve --adaptive --patches 60 --target-error 0.1 --ascii -o " + (dir / "a.vtu").string());
+    // --adaptive is the hierarchical solver refining on power (kAdaptivePowerEpsilon).
+    const auto a = bounce_run("solve --adaptive --patches 60 --ascii -o " + (dir / "a.vtu").string());
     ASSERT_EQ(a.exit_code, 0) << a.err;
-    EXPECT_NE(a.out.find("adaptive:"), std::string::npos) << a.out;
+    EXPECT_NE(a.out.find("hierarchical (--adaptive: power epsilon 1e-05)"), std::string::npos) << a.out;
     // Elements with a finer neighbour carry its vertices: VTK polygons (type 7).
     const std::string text = slurp(dir / "a.vtu");
     const auto at = text.find("Name=\"types\"");
@@ -449,12 +449,18 @@ TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
                                  (dir / "f.vtu").string());
     ASSERT_EQ(flat.exit_code, 0) << flat.err;
     EXPECT_NE(flat.out.find(" 0 clusters)"), std::string::npos) << flat.out;
-    // A budget too small for the target: the solution is written, exit 3.
-    const auto tight = bounce_run("solve -q --adaptive --patches 60 --target-error 0.001 --max-patches 200 -o " +
-                                  (dir / "t.vtu").string());
-    EXPECT_EQ(tight.exit_code, 3);
-    EXPECT_TRUE(std::filesystem::exists(dir / "t.vtu"));
-    EXPECT_EQ(bounce_run("solve --adaptive --target-error 0").exit_code, 2);
+    // The receiver-only refinement --adaptive ran before is retired with its options: one line
+    // naming the option and what replaces it, exit 2, no file.
+    for (const std::string retired : {"--target-error 0.1", "--max-patches 200"}) {
+        const auto r = bounce_run("solve --adaptive " + retired + " -o " + (dir / "t.vtu").string());
+        EXPECT_EQ(r.exit_code, 2);
+        EXPECT_NE(r.err.find(retired.substr(0, retired.find(' ')) + " belonged to the receiver-only refinement"),
+                  std::string::npos)
+            << r.err;
+        EXPECT_NE(r.err.find("set --power-epsilon"), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir / "t.vtu"));
     EXPECT_EQ(bounce_run("solve --adaptive --elements 2").exit_code, 2);
 }
 

@@ -56,6 +56,11 @@ def test_bad_options_are_value_errors_in_the_command_lines_words(run_cli):
         bounce.solve(scene, rays=0)
     with pytest.raises(ValueError, match="method: unknown"):
         bounce.form_factors(scene, method="radiance")
+    # The receiver-only refinement adaptive ran before is retired, and so are its knobs.
+    for retired in ({"target_error": 0.1}, {"max_patches": 200}):
+        with pytest.raises(ValueError, match="retired: adaptive is the hierarchical solver refining on power"):
+            bounce.solve(scene, adaptive=True, **retired)
+    assert "now retired: --adaptive is the hierarchical solver" in cli_message(run_cli, "solve", "--target-error", "0.1")
 
 
 def test_unwritable_output(tmp_path):

@@ -109,8 +109,7 @@ def test_to_meshio_and_render(tmp_path, scene):
          ["--no-subdivide", "--solver", "hierarchical", "--max-level", "1", "--gather", "none"]),
         ({"subdivide": False}, {"solver": "hierarchical", "max_level": 1, "gather": "none", "clustering": False},
          ["--no-subdivide", "--solver", "hierarchical", "--max-level", "1", "--gather", "none", "--no-clustering"]),
-        ({"patches": 100}, {"adaptive": True, "max_patches": 2000},
-         ["--patches", "100", "--adaptive", "--max-patches", "2000"]),
+        ({"patches": 100}, {"adaptive": True}, ["--patches", "100", "--adaptive"]),
     ],
     ids=["hierarchical", "hierarchical-unclustered", "adaptive-gathered"],
 )
