@@ -88,7 +88,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
     const auto visibility = make_visibility(o.visibility, mesh.patches());
-    ProgressLine progress(!o.quiet, "round", "estimate");
+    ProgressLine progress(!o.quiet);
     SolveResult res;
     std::optional<PatchMesh> elements;
     std::optional<HierarchicalSolution> hierarchy;  // kept for the gather through its links
@@ -117,18 +117,15 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
                 << (s.adaptive ? " (--adaptive: power epsilon " + number_text(h.power_epsilon) + ")" : "") << ": "
                 << sol.leaves.size() << " elements, " << sol.links.size() << " links ("
                 << 100.0 * double(sol.links.size()) / (n * n) << "% of N^2; " << sol.cluster_links
-                << " with a cluster, " << sol.clusters << " clusters), " << res.steps << " iterations, " << res.seconds
-                << " s\n";
+                << " with a cluster, " << sol.clusters << " clusters), " << h.refine_rounds << " refinement round"
+                << (h.refine_rounds == 1 ? "" : "s") << ", " << res.steps << " iterations, " << res.seconds << " s\n";
     }
     if (!o.quiet)
         for (const auto& w : elements->warnings()) std::cerr << "warning: " << w << "\n";
     if (s.gather != "none" && !g_interrupted.load()) {
         // The elements are what the file shows: gather from them, with visibility among them.
         const auto element_visibility = make_visibility(o.visibility, elements->patches());
-        if (hierarchy)
-            gather_point_values(*hierarchy, *elements, *element_visibility, res, s.gather, o.quiet);
-        else
-            gather_point_values(*elements, *element_visibility, res, s.gather, o.quiet);
+        gather_point_values(*hierarchy, *elements, *element_visibility, res, s.gather, o.quiet);
     }
     if (!interrupted_exit_code()) warn_about_winding(o, scene, elements->patches(), res);
     write_vtu(out, *elements, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.ascii);
@@ -155,6 +152,9 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         check_output(s.png);
         check_picture_path(s.png);
     }
+    if (s.adaptive && s.solver != "shooting" && s.solver != "hierarchical")
+        throw std::invalid_argument("--adaptive is the hierarchical solver: it takes no other (got --solver " +
+                                    s.solver + ")");
     if (!s.retired.empty())
         throw std::invalid_argument(s.retired.front() +
                                     " belonged to the receiver-only refinement --adaptive ran before, now retired: "
@@ -306,9 +306,11 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                         "(--power-epsilon " +
                             number_text(kAdaptivePowerEpsilon) + " unless one above 0 is given)");
     for (const char* name : {"--target-error", "--max-patches"})
-        solve_cmd->add_option_function<std::string>(
-            name, [solve, name](const std::string&) { solve->retired.push_back(name); },
-            "retired with --adaptive's receiver-only refinement (use --power-epsilon)");
+        solve_cmd
+            ->add_option_function<std::string>(
+                name, [solve, name](const std::string&) { solve->retired.push_back(name); },
+                "retired with --adaptive's receiver-only refinement (use --power-epsilon)")
+            ->group("");  // hidden from --help; given, it is refused with a message
     solve_cmd
         ->add_option("--link-epsilon", solve->hierarchical.link_epsilon,
                      "hierarchical: link error bound, a share of what the link brings (0.1)")

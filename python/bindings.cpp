@@ -373,12 +373,12 @@ std::shared_ptr<SolutionData> solve(
     std::size_t max_matrix_mb, const std::string& gather, bool residuals,
     const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& reference, bool adaptive,
     const py::object& target_error, const py::object& max_patches, double link_epsilon,
-    std::optional<double> power_epsilon, int max_level, bool clustering, const py::object& progress) {
+    std::optional<double> power_epsilon, int refine_rounds, int max_level, bool clustering,
+    const py::object& progress) {
     std::vector<std::string> solvers = solver_names();
     solvers.push_back("hierarchical");
     check_member("solver", solver_name, solvers);
-    const bool hierarchical = solver_name == "hierarchical" || adaptive;
-    const bool elements = hierarchical;
+    const bool elements = solver_name == "hierarchical" || adaptive;  // the hierarchical solver's elements
     if (elements && method != "raycast") throw InputError("adaptive and hierarchical use raycast form factors");
     if (adaptive && solver_name != "shooting" && solver_name != "hierarchical")
         throw InputError("adaptive is the hierarchical solver: it takes no other (got '" + solver_name + "')");
@@ -389,8 +389,11 @@ std::shared_ptr<SolutionData> solve(
                              "the hierarchical solver refining on power; set power_epsilon");
     if (elements && (residuals || reference))
         throw InputError("residuals and reference apply to the patch solvers, not to adaptive or hierarchical");
-    const double power = power_epsilon.value_or(adaptive ? kAdaptivePowerEpsilon : 0.0);
+    // As the command line: adaptive takes kAdaptivePowerEpsilon unless a power epsilon above 0 is given.
+    double power = power_epsilon.value_or(0.0);
     check_range("power_epsilon", power, 0.0, 1.0);
+    if (adaptive && !(power > 0)) power = kAdaptivePowerEpsilon;
+    check_range("refine_rounds", refine_rounds, 1, 100);
     check_positive("link_epsilon", link_epsilon);
     check_range("max_level", max_level, 0, 12);
     const FormFactorOptions f =
@@ -421,36 +424,34 @@ std::shared_ptr<SolutionData> solve(
             const auto visibility = make_visibility(s->visibility, P);
             if (elements) {
                 // The scene's patches are the roots: load() chose their size.
-                SolveResult res;
-                std::optional<HierarchicalSolution> hierarchy;  // kept for the gather through its links
-                if (hierarchical) {
-                    HierarchicalOptions h;
-                    h.link_epsilon = link_epsilon;
-                    h.power_epsilon = power;
-                    h.max_level = max_level;
-                    h.clustering = clustering;
-                    h.form_factors = f;
-                    h.cancel = &job.cancel;
-                    HierarchicalSolution& sol = hierarchy.emplace(solve_hierarchical(P, *visibility, h));
-                    if (job.cancel) return;
-                    out->mesh = std::make_shared<const PatchMesh>(sol.tree.conforming_mesh(sol.leaves));
-                    res = std::move(sol.result);
-                    settings << "patches=" << P.size()
-                             << " rays=" << with_default_rays(f, kRefinementRays).visibility_rays << " seed=" << seed
-                             << " solver=hierarchical link_epsilon=" << link_epsilon << " power_epsilon=" << power
-                             << " max_level=" << max_level << " clustering=" << (clustering ? 1 : 0)
-                             << " elements=" << sol.leaves.size() << " links=" << sol.links.size();
-                }
+                HierarchicalOptions h;
+                h.link_epsilon = link_epsilon;
+                h.power_epsilon = power;
+                h.refine_rounds = refine_rounds;
+                h.max_level = max_level;
+                h.clustering = clustering;
+                h.form_factors = f;
+                h.cancel = &job.cancel;
+                h.progress = [&job](const std::string& stage, std::size_t d, std::size_t t) {
+                    job.report_items(stage.c_str(), d, t);
+                };
+                // Kept for the gather through its links.
+                const HierarchicalSolution sol = solve_hierarchical(P, *visibility, h);
+                if (job.cancel) return;
+                out->mesh = std::make_shared<const PatchMesh>(sol.tree.conforming_mesh(sol.leaves));
+                SolveResult res = sol.result;
+                settings << "patches=" << P.size() << " rays=" << with_default_rays(f, kRefinementRays).visibility_rays
+                         << " seed=" << seed << " solver=hierarchical link_epsilon=" << link_epsilon
+                         << " power_epsilon=" << power << " link_floor=" << h.link_floor << " max_level=" << max_level
+                         << " refine_rounds=" << refine_rounds << " clustering=" << (clustering ? 1 : 0)
+                         << " elements=" << sol.leaves.size() << " links=" << sol.links.size();
                 // The elements are what the solution shows: gather from them, with visibility among them.
                 const auto element_visibility = make_visibility(s->visibility, out->mesh->patches());
                 const auto report = [&](const char* stage, std::size_t d, std::size_t t) {
                     job.report_items(stage, d, t);
                 };
-                out->gathered =
-                    (hierarchy ? gather_hierarchical_point_values(*hierarchy, *out->mesh, *element_visibility, res,
-                                                                  gather, &job.cancel, report)
-                               : gather_point_values(*out->mesh, *element_visibility, res, gather, &job.cancel,
-                                                     report)) == GatherOutcome::gathered;
+                out->gathered = gather_hierarchical_point_values(sol, *out->mesh, *element_visibility, res, gather,
+                                                                 &job.cancel, report) == GatherOutcome::gathered;
                 if (!out->gathered) out->averaged_points = area_weighted_vertex_values(*out->mesh, res.radiosity);
                 out->result = std::move(res);
                 return;
@@ -664,10 +665,11 @@ PYBIND11_MODULE(_bounce, m) {
 
     py::class_<Progress>(m, "Progress", "What a long call reports to its progress callback.")
         .def_readonly("stage", &Progress::stage,
-                      "'form factors', 'solve', "
+                      "'form factors', 'solve', the hierarchical solver's 'round 1/1: refining links', "
+                      "'round 1/1: link form factors' and 'round 1/1: gather iterations', "
                       "'gathering: vertices', 'gathering: centres', 'gathering: element centres' or "
                       "'path tracing: points'")
-        .def_readonly("step", &Progress::step, "rows, shots, sweeps, rounds or points done")
+        .def_readonly("step", &Progress::step, "rows, shots, sweeps, links, iterations or points done")
         .def_readonly("total", &Progress::total, "of how many (0: unknown)")
         .def_readonly("value", &Progress::value, "solve: unshot fraction (shooting) or relative residual; else -1")
         .def_readonly("tolerance", &Progress::tolerance, "solve: the value it stops below")
@@ -900,7 +902,8 @@ PYBIND11_MODULE(_bounce, m) {
           py::arg("hemicube_jitter") = false, py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048,
           py::arg("gather") = "vertices", py::arg("residuals") = false, py::arg("reference") = py::none(),
           py::arg("adaptive") = false, py::arg("target_error") = py::none(), py::arg("max_patches") = py::none(),
-          py::arg("link_epsilon") = 0.1, py::arg("power_epsilon") = py::none(), py::arg("max_level") = 4,
+          py::arg("link_epsilon") = 0.1, py::arg("power_epsilon") = py::none(),
+          py::arg("refine_rounds") = HierarchicalOptions{}.refine_rounds, py::arg("max_level") = 4,
           py::arg("clustering") = true, py::arg("progress") = py::none(),
           "Radiosity of the scene, as `bounce solve` computes it with the same options (the keywords are its "
           "flags: solver shooting, gauss-seidel, jacobi, direct or hierarchical; form_factors raycast, exact, "

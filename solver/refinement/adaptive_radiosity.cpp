@@ -260,11 +260,4 @@ double rms_difference(const ElementTree& tree, const std::vector<std::uint32_t>&
     return std::sqrt(num / den);
 }
 
-void settle_adaptive_status(AdaptiveSolution& solution, const AdaptiveOptions& options) {
-    SolveResult& res = solution.result;
-    res.converged =
-        res.converged && !solution.rounds.empty() && solution.rounds.back().rms_estimate <= options.target_error;
-    if (!res.converged && res.status == "converged") res.status = "element budget reached";
-}
-
 }  // namespace bounce

@@ -16,7 +16,7 @@ class Visibility;
 
 struct AdaptiveOptions {
     double target_error = 0.05;        // stop when the area-weighted RMS of the estimates is below this
-    std::size_t max_elements = 20000;  // element budget (the CLI's --max-patches)
+    std::size_t max_elements = 20000;  // element budget (compare --meshes keeps this method to compare)
     int max_rounds = 16;               // refine-and-solve rounds at most
     int max_level = 10;                // no element smaller than its patch / 4^max_level
     double tolerance = 1e-6;           // relative residual of each round's patch-level solve
@@ -41,7 +41,8 @@ struct AdaptiveSolution {
     std::vector<AdaptiveRound> rounds;
 };
 
-/// Adaptive subdivision with patches and elements (Cohen, Greenberg, Immel and Brock 1986):
+/// Adaptive subdivision with patches and elements (Cohen, Greenberg, Immel and Brock 1986), kept
+/// for `compare --meshes` to compare against (`solve --adaptive` is the hierarchical solver):
 /// the patches (coarse) carry the light transport, elements (quadtree leaves over them)
 /// resolve it. Each element e gathers a row g_e[q] = F(e -> q) over the patches; the patch
 /// system uses F_pq = sum over elements e of p of (A_e / A_p) g_e[q], is solved by
@@ -55,11 +56,6 @@ struct AdaptiveSolution {
 /// elements and corners.
 AdaptiveSolution solve_adaptive(const std::vector<Patch>& patches, const Visibility& visibility,
                                 const AdaptiveOptions& options);
-
-/// Converged means the estimate reached the target, not only that the last patch-level solve
-/// converged: otherwise result.converged is false and a "converged" status becomes "element
-/// budget reached". (The command line's and the Python module's verdict.)
-void settle_adaptive_status(AdaptiveSolution& solution, const AdaptiveOptions& options);
 
 /// Uniform refinement to `level` (every patch cut into 4^level elements) with the same
 /// machinery: the baseline adaptive subdivision is measured against.

@@ -462,6 +462,16 @@ TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
     }
     EXPECT_FALSE(std::filesystem::exists(dir / "t.vtu"));
     EXPECT_EQ(bounce_run("solve --adaptive --elements 2").exit_code, 2);
+    EXPECT_EQ(bounce_run("solve --adaptive --solver jacobi").exit_code, 2);
+    // A power epsilon given wins over --adaptive's; --refine-rounds takes effect and is checked.
+    const auto given =
+        bounce_run("solve --adaptive --power-epsilon 3e-5 --refine-rounds 2 --patches 60 --gather none -o " +
+                   (dir / "g.vtu").string());
+    ASSERT_EQ(given.exit_code, 0) << given.err;
+    EXPECT_NE(given.out.find("(--adaptive: power epsilon 3e-05)"), std::string::npos) << given.out;
+    EXPECT_NE(given.out.find(", 2 refinement rounds, "), std::string::npos) << given.out;
+    EXPECT_NE(a.out.find(", 1 refinement round, "), std::string::npos) << a.out;
+    EXPECT_EQ(bounce_run("solve --solver hierarchical --refine-rounds 0").exit_code, 2);
 }
 
 TEST(Cli, CompareMeshesWritesRowsForEveryMethodAgainstOneReference) {

@@ -128,3 +128,14 @@ def test_element_solution_equals_command_line_vtu(tmp_path, run_cli, load_option
     assert_same(sol.patches.vertices, cli.points, "element vertices")
     assert sol.patches.area.sum() == pytest.approx(scene.total_area, rel=1e-9)
     assert sol.patches.area.base is sol
+
+
+def test_adaptive_reports_the_hierarchical_rounds_and_takes_a_given_power_epsilon():
+    scene = bounce.load("cornell", patches=60)
+    stages = set()
+    sol = bounce.solve(scene, adaptive=True, power_epsilon=3e-5, gather="none",
+                       progress=lambda p: stages.add(p.stage))
+    default = bounce.solve(scene, adaptive=True, gather="none")
+    # A coarser power bound links fewer, larger elements than the default 1e-5.
+    assert len(sol.patches) < len(default.patches)
+    assert any(stage.startswith("round 1/1: ") for stage in stages), stages

@@ -209,8 +209,9 @@ TEST(HierarchicalPointValues, PartlyVisibleLinksRefineThePenumbra) {
     const ProbeScore refined = score(true), kept = score(false);
     // Measured 7.4% against 154% (2,340 elements against 189; 5.0% with 6,855 elements after
     // three refinement rounds): refined to the depth limit along the shadow's edge. Without
-    // the vertices gathering through the links whose rays were all blocked, 17%. With 4 rays instead of 16 judging the
-    // pairs, 33%: an element a third in shadow kept all 4 lit one time in five and stayed whole.
+    // the vertices gathering through the links whose rays were all blocked, 17%. With 4 rays
+    // instead of 16 judging the pairs (three rounds), 33%: an element a third in shadow kept
+    // all 4 lit one time in five and stayed whole.
     EXPECT_LT(refined.rms_smooth, 0.1);
     EXPECT_LT(refined.rms_smooth, 0.2 * kept.rms_smooth);
 }

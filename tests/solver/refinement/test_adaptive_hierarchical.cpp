@@ -99,7 +99,8 @@ TEST(Hierarchical, AgreesWithTheFullMatrixOnItsElementsWithinTheOracleTolerance)
     const double n = double(leaves.size());
     std::printf("%zu elements, %zu links (%.1f%% of N^2): RMS difference from the full matrix %.4f\n", leaves.size(),
                 s.links.size(), 100.0 * double(s.links.size()) / (n * n), rms);
-    // Measured: 3144 elements, RMS 0.033 at link_epsilon 0.1: within the bound on each link.
+    // Measured: 3296 elements, RMS 0.0071 at link_epsilon 0.1 (one refinement round; 3144 and
+    // 0.033 with three): within the bound on each link.
     EXPECT_LT(rms, 0.5 * h.link_epsilon);
     EXPECT_LT(double(s.links.size()), 0.2 * n * n);
 }
