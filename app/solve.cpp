@@ -97,7 +97,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
              << " seed=" << s.ff.seed;
     {
         HierarchicalOptions h = s.hierarchical;
-        if (s.adaptive && !(h.power_epsilon > 0)) h.power_epsilon = kAdaptivePowerEpsilon;
+        if (s.adaptive) h.power_epsilon = adaptive_power_epsilon(h.power_epsilon);
         h.clustering = !s.no_clustering;
         h.form_factors = s.ff;
         h.cancel = &g_interrupted;
@@ -109,10 +109,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         elements.emplace(sol.tree.conforming_mesh(sol.leaves));
         res = std::move(sol.result);
         const double n = double(sol.leaves.size());
-        settings << " solver=hierarchical link_epsilon=" << h.link_epsilon << " power_epsilon=" << h.power_epsilon
-                 << " link_floor=" << h.link_floor << " max_level=" << h.max_level
-                 << " refine_rounds=" << h.refine_rounds << " clustering=" << (h.clustering ? 1 : 0)
-                 << " elements=" << sol.leaves.size() << " links=" << sol.links.size();
+        settings << hierarchical_settings(h, sol);
         summary << "patches " << mesh.size() << ", hierarchical"
                 << (s.adaptive ? " (--adaptive: power epsilon " + number_text(h.power_epsilon) + ")" : "") << ": "
                 << sol.leaves.size() << " elements, " << sol.links.size() << " links ("

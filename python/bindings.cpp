@@ -392,7 +392,7 @@ std::shared_ptr<SolutionData> solve(
     // As the command line: adaptive takes kAdaptivePowerEpsilon unless a power epsilon above 0 is given.
     double power = power_epsilon.value_or(0.0);
     check_range("power_epsilon", power, 0.0, 1.0);
-    if (adaptive && !(power > 0)) power = kAdaptivePowerEpsilon;
+    if (adaptive) power = adaptive_power_epsilon(power);
     check_range("refine_rounds", refine_rounds, 1, 100);
     check_positive("link_epsilon", link_epsilon);
     check_range("max_level", max_level, 0, 12);
@@ -435,16 +435,13 @@ std::shared_ptr<SolutionData> solve(
                 h.progress = [&job](const std::string& stage, std::size_t d, std::size_t t) {
                     job.report_items(stage.c_str(), d, t);
                 };
-                // Kept for the gather through its links.
-                const HierarchicalSolution sol = solve_hierarchical(P, *visibility, h);
+                // Kept for the gather through its links, which does not read its result.
+                HierarchicalSolution sol = solve_hierarchical(P, *visibility, h);
                 if (job.cancel) return;
                 out->mesh = std::make_shared<const PatchMesh>(sol.tree.conforming_mesh(sol.leaves));
-                SolveResult res = sol.result;
+                SolveResult res = std::move(sol.result);
                 settings << "patches=" << P.size() << " rays=" << with_default_rays(f, kRefinementRays).visibility_rays
-                         << " seed=" << seed << " solver=hierarchical link_epsilon=" << link_epsilon
-                         << " power_epsilon=" << power << " link_floor=" << h.link_floor << " max_level=" << max_level
-                         << " refine_rounds=" << refine_rounds << " clustering=" << (clustering ? 1 : 0)
-                         << " elements=" << sol.leaves.size() << " links=" << sol.links.size();
+                         << " seed=" << seed << hierarchical_settings(h, sol);
                 // The elements are what the solution shows: gather from them, with visibility among them.
                 const auto element_visibility = make_visibility(s->visibility, out->mesh->patches());
                 const auto report = [&](const char* stage, std::size_t d, std::size_t t) {

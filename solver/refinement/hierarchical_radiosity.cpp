@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 #include <span>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -806,6 +807,15 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     finish_result(tree, B, H, out);
     res.seconds = since_start();
     return out;
+}
+
+std::string hierarchical_settings(const HierarchicalOptions& options, const HierarchicalSolution& solution) {
+    std::ostringstream s;
+    s << " solver=hierarchical link_epsilon=" << options.link_epsilon << " power_epsilon=" << options.power_epsilon
+      << " link_floor=" << options.link_floor << " max_level=" << options.max_level
+      << " refine_rounds=" << options.refine_rounds << " clustering=" << (options.clustering ? 1 : 0)
+      << " elements=" << solution.leaves.size() << " links=" << solution.links.size();
+    return s.str();
 }
 
 }  // namespace bounce

@@ -59,6 +59,10 @@ struct HierarchicalOptions {
 /// so it does not depend on the scene's units.
 inline constexpr double kAdaptivePowerEpsilon = 1e-5;
 
+/// The power epsilon an adaptive solve refines with: the one given when above 0, else
+/// kAdaptivePowerEpsilon (the command line's --adaptive and the Python module's adaptive=True).
+inline double adaptive_power_epsilon(double given) { return given > 0 ? given : kAdaptivePowerEpsilon; }
+
 /// One interaction of the hierarchy: a gathers from b and b from a. Either end is an element
 /// node of the tree or a cluster (a ClusterTree ref, ClusterTree::is_cluster).
 struct HierarchicalLink {
@@ -126,5 +130,9 @@ struct HierarchicalSolution {
 /// area) and the irradiance it gathers reaches every member alike, so power is kept.
 HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const Visibility& visibility,
                                         const HierarchicalOptions& options);
+
+/// What a written solution records of a hierarchical solve (the .vtu's settings, from the
+/// command line and the Python module alike): " solver=hierarchical link_epsilon=... links=...".
+std::string hierarchical_settings(const HierarchicalOptions& options, const HierarchicalSolution& solution);
 
 }  // namespace bounce
