@@ -80,13 +80,16 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
         const glm::dvec3 from = x.position + lift * x.normal;
         const std::size_t list = sources ? sources->list[i] : 0;
         const std::size_t count = sources ? sources->offsets[list + 1] - sources->offsets[list] : patches.size();
-        thread_local std::vector<std::size_t> pending;  // sources still to take: listed, or children
+        // Sources still to take, listed or children, and whether a shaft test proved them unblocked.
+        thread_local std::vector<std::pair<std::size_t, bool>> pending;
         pending.clear();
         const bool may_descend = sources && sources->descend > 0;
+        const bool marked = sources && !sources->unblocked.empty();
         for (std::size_t s = 0; s < count; ++s) {
-            pending.push_back(sources ? sources->patches[sources->offsets[list] + s] : s);
+            const std::size_t entry = sources ? sources->offsets[list] + s : s;
+            pending.push_back({sources ? sources->patches[entry] : s, marked && sources->unblocked[entry]});
             while (!pending.empty()) {
-                const std::size_t j = pending.back();
+                const auto [j, unblocked] = pending.back();
                 pending.pop_back();
                 const Patch& p = patches[j];
                 if (p.surface == x.surface || radiosity[j].max() <= 0) continue;
@@ -100,12 +103,17 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
                     const glm::dvec3 d = p.centre - x.position;
                     const double ratio = std::min(1.0, std::sqrt(r2 / glm::dot(d, d)));
                     if (ratio * sources->spread[j] > sources->descend * radiosity[j].luminance()) {
-                        for (int c = 0; c < 4; ++c) pending.push_back(std::size_t(sources->first_child[j] + c));
+                        for (int c = 0; c < 4; ++c)
+                            pending.push_back({std::size_t(sources->first_child[j] + c), unblocked});
                         continue;
                     }
                 }
                 const double f0 = factor(x.position, x.normal, j);
                 if (!(f0 > 0)) continue;
+                if (unblocked) {
+                    terms.push_back({j, segments.size(), 0, f0});
+                    continue;
+                }
                 // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
                 int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
                 if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
@@ -133,8 +141,8 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
                 open += blocked[s] ? 0.0 : kernel[s];
                 open_rays += blocked[s] ? 0 : 1;
             }
-            // All samples at zero kernel (grazing): the plain open fraction.
-            const double share = total > 0 ? open / total : double(open_rays) / double(t.count);
+            // All samples at zero kernel (grazing): the plain open fraction. No rays: unblocked.
+            const double share = t.count == 0 ? 1.0 : total > 0 ? open / total : double(open_rays) / double(t.count);
             gathered += radiosity[t.patch] * (t.f0 * share);
         }
         if (sources && !sources->irradiance.empty()) gathered += sources->irradiance[list];

@@ -74,6 +74,11 @@ struct GatherSources {
     std::span<const std::int32_t> first_child = {};
     std::span<const double> spread = {};
     double descend = 0.0;
+    /// Optional, per entry of `patches`: 1 where a shaft test proved the source wholly visible
+    /// from every point of the list's element (ShaftCuller::unblocked, Haines and Wallace 1991):
+    /// it takes its unoccluded factor whole and no rays. Children gone down to keep the mark
+    /// (their shafts lie inside their parent's).
+    std::span<const std::uint8_t> unblocked = {};
 };
 
 /// final_gather over the patches `sources` names for each point, not over all of them.

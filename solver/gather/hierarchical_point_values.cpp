@@ -2,59 +2,138 @@
 #include "solver/gather/hierarchical_point_values.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "solver/visibility/shaft_culler.h"
 
 namespace bounce {
 namespace {
 
+/// The element links of every node (compressed rows): links between elements, whose polygons
+/// the gather integrates over, also those whose few refinement rays were all blocked. A point
+/// traces its own rays: at a shadow's edge it sees part of a source its element's rays missed
+/// (on the Cornell box's red wall, by the tall block, the probes were up to 6% dark).
+struct NodeLinks {
+    std::vector<std::size_t> first;    // per node, and one past the last
+    std::vector<std::uint32_t> other;  // the link's other end
+    std::vector<std::uint32_t> link;   // the link's index in solution.links
+};
+
+NodeLinks node_links(const HierarchicalSolution& sol) {
+    const std::size_t n = sol.tree.size();
+    NodeLinks out;
+    out.first.assign(n + 1, 0);
+    for (const auto& l : sol.links)
+        if (l.between_elements()) {
+            ++out.first[l.a + 1];
+            ++out.first[l.b + 1];
+        }
+    for (std::size_t i = 0; i < n; ++i) out.first[i + 1] += out.first[i];
+    out.other.resize(out.first[n]);
+    out.link.resize(out.first[n]);
+    std::vector<std::size_t> fill(out.first.begin(), out.first.end() - 1);
+    for (std::size_t k = 0; k < sol.links.size(); ++k) {
+        const auto& l = sol.links[k];
+        if (!l.between_elements()) continue;
+        out.link[fill[l.a]] = std::uint32_t(k);
+        out.other[fill[l.a]++] = l.b;
+        out.link[fill[l.b]] = std::uint32_t(k);
+        out.other[fill[l.b]++] = l.a;
+    }
+    return out;
+}
+
+/// Per leaf, the number of links along its path to the root: the length of its source list.
+std::vector<std::size_t> path_link_counts(const HierarchicalSolution& sol, const NodeLinks& links) {
+    std::vector<std::size_t> out;
+    out.reserve(sol.leaves.size());
+    for (const std::uint32_t leaf : sol.leaves) {
+        std::size_t c = 0;
+        for (std::int64_t a = leaf; a >= 0; a = sol.tree.node(std::size_t(a)).parent)
+            c += links.first[std::size_t(a) + 1] - links.first[std::size_t(a)];
+        out.push_back(c);
+    }
+    return out;
+}
+
+/// A vertex takes the last element around it, as vertex_gather_points takes its surface.
+std::vector<std::uint32_t> vertex_lists(const PatchMesh& elements) {
+    std::vector<std::uint32_t> out(elements.mesh().n_vertices(), 0);
+    for (std::size_t k = 0; k < elements.size(); ++k)
+        for (const int v : elements.patch_vertex_indices(k)) out[std::size_t(v)] = std::uint32_t(k);
+    return out;
+}
+
+/// Gather points x sources: every vertex's list, and with a power epsilon every leaf's centre
+/// too (gathered first).
+double gather_pairs(const HierarchicalSolution& sol, const std::vector<std::size_t>& counts,
+                    const std::vector<std::uint32_t>& vertex_list) {
+    double pairs = 0.0;
+    for (const std::uint32_t k : vertex_list) pairs += double(counts[k]);
+    if (sol.power_epsilon > 0)
+        for (const std::size_t c : counts) pairs += double(c);
+    return pairs;
+}
+
 /// Per leaf (in solution.leaves order), the nodes its element links reach along its path to
-/// the root, as GatherSources lists; and each gather point's list.
+/// the root, as GatherSources lists, with each one's mark: a shaft test over the input
+/// patches (the scene's blockers) found nothing between the two ends of the link, so every
+/// point of the leaf sees all of the source. On the Cornell box (power epsilon 3e-6) three
+/// links in four are so marked; the gather traces 4.2 million rays instead of 9.9 million and
+/// takes a third less time (0.87 -> 0.57 s; 1.79 -> 1.17 s at 1e-6; medians of three), at the
+/// same error (five gather seeds: 0.68% RMS off the 0.1% probes either way).
 struct LinkSources {
     std::vector<std::size_t> offsets;
     std::vector<std::uint32_t> nodes;
-    std::vector<std::uint32_t> vertex_list;  // per vertex of the elements: its leaf
-    double pairs = 0.0;                      // gather points x sources (leaf centres too, with a power epsilon)
+    std::vector<std::uint8_t> unblocked;  // per entry of nodes
 };
 
-LinkSources link_sources(const HierarchicalSolution& sol, const PatchMesh& elements) {
+/// A shaft test that proves a link unblocked costs about one plane test per plane group of the
+/// scene (ShaftCuller::plane_groups); it spares every gather point under either end the rays
+/// to the other (GatherOptions: ceil(64 F), 1 to 16, 16 to an emitter), each worth about
+/// sixteen plane tests with its target and kernel. So a link is tested when the rays it could
+/// spare, times this, reach the plane groups. The Cornell box has 11 groups and every link is
+/// tested (69 ms for 272k links at power epsilon 3e-6); the 10k office has 3585, where testing
+/// every link cost 24 s more than it spared (its hierarchical solve at 3e-6: 58 s -> 80 s), and
+/// this rule takes it to 55 s.
+constexpr double kPlaneTestsPerRay = 16.0;
+
+LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links) {
     const ElementTree& tree = sol.tree;
-    const std::size_t n = tree.size();
-    if (elements.size() != sol.leaves.size())
-        throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
-    // Element links per node (compressed rows): links between elements, whose polygons the
-    // gather integrates over, also those whose few refinement rays were all blocked. A point
-    // traces its own rays: at a shadow's edge it sees part of a source its element's rays
-    // missed (on the Cornell box's red wall, by the tall block, the probes were up to 6% dark).
-    auto gathered = [](const HierarchicalLink& l) { return l.between_elements(); };
-    std::vector<std::size_t> first(n + 1, 0);
-    for (const auto& l : sol.links)
-        if (gathered(l)) {
-            ++first[l.a + 1];
-            ++first[l.b + 1];
-        }
-    for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
-    std::vector<std::uint32_t> other(first[n]);
-    std::vector<std::size_t> fill(first.begin(), first.end() - 1);
-    for (const auto& l : sol.links)
-        if (gathered(l)) {
-            other[fill[l.a]++] = l.b;
-            other[fill[l.b]++] = l.a;
-        }
+    const auto& G = tree.geometry();
+    std::vector<std::uint32_t> leaves_under(tree.size(), 0);
+    for (const std::uint32_t leaf : sol.leaves)
+        for (std::int64_t a = leaf; a >= 0; a = tree.node(std::size_t(a)).parent) ++leaves_under[std::size_t(a)];
+    const GatherOptions options = point_value_options();
+    const auto rays_to = [&](std::uint32_t source, double factor) {
+        if (G[source].emission.max() > 0) return double(options.emitter_rays);
+        return std::clamp(std::ceil(factor * options.rays_per_unit_factor), 1.0, double(options.max_rays));
+    };
+    const ShaftCuller culler(tree.roots());
+    const double planes = double(culler.plane_groups());
+    std::vector<std::uint8_t> link_unblocked(sol.links.size(), 0);
+    tbb::parallel_for(std::size_t(0), sol.links.size(), [&](std::size_t k) {
+        const auto& l = sol.links[k];
+        // Links whose rays were all blocked are not tested: their shaft holds a blocker.
+        if (!l.between_elements() || l.visible == 0.0f) return;
+        const double fba = double(l.fab) * G[l.a].area / G[l.b].area;
+        const double spared = leaves_under[l.a] * rays_to(l.b, l.fab) + leaves_under[l.b] * rays_to(l.a, fba);
+        if (spared * kPlaneTestsPerRay >= planes) link_unblocked[k] = culler.unblocked(G[l.a], G[l.b]);
+    });
     LinkSources out;
     out.offsets.push_back(0);
     for (const std::uint32_t leaf : sol.leaves) {
         for (std::int64_t a = leaf; a >= 0; a = tree.node(std::size_t(a)).parent)
-            out.nodes.insert(out.nodes.end(), other.begin() + std::ptrdiff_t(first[std::size_t(a)]),
-                             other.begin() + std::ptrdiff_t(first[std::size_t(a) + 1]));
+            for (std::size_t e = links.first[std::size_t(a)]; e < links.first[std::size_t(a) + 1]; ++e) {
+                out.nodes.push_back(links.other[e]);
+                out.unblocked.push_back(link_unblocked[links.link[e]]);
+            }
         out.offsets.push_back(out.nodes.size());
     }
-    // A vertex takes the last element around it, as vertex_gather_points takes its surface.
-    out.vertex_list.assign(elements.mesh().n_vertices(), 0);
-    for (std::size_t k = 0; k < elements.size(); ++k)
-        for (const int v : elements.patch_vertex_indices(k)) out.vertex_list[std::size_t(v)] = std::uint32_t(k);
-    for (const std::uint32_t k : out.vertex_list) out.pairs += double(out.offsets[k + 1] - out.offsets[k]);
-    if (sol.power_epsilon > 0) out.pairs += double(out.nodes.size());  // the leaves' centres first
     return out;
 }
 
@@ -76,7 +155,8 @@ std::vector<Rgb> centre_values(const HierarchicalSolution& sol, const PatchMesh&
                                const std::function<void(std::size_t, std::size_t)>& progress) {
     std::vector<std::uint32_t> own(elements.size());  // a centre gathers through its own element
     for (std::size_t k = 0; k < own.size(); ++k) own[k] = std::uint32_t(k);
-    const GatherSources at{own, sources.offsets, sources.nodes, sol.cluster_irradiance};
+    GatherSources at{own, sources.offsets, sources.nodes, sol.cluster_irradiance};
+    at.unblocked = sources.unblocked;
     return final_gather(sol.tree.geometry(), sol.node_radiosity, visibility, centre_gather_points(elements.patches()),
                         at, options, cancel, progress);
 }
@@ -107,7 +187,10 @@ std::vector<Rgb> regathered_radiosity(const HierarchicalSolution& sol, const std
 }  // namespace
 
 double hierarchical_gather_pairs(const HierarchicalSolution& solution, const PatchMesh& elements) {
-    return link_sources(solution, elements).pairs;
+    if (elements.size() != solution.leaves.size())
+        throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
+    const NodeLinks links = node_links(solution);
+    return gather_pairs(solution, path_link_counts(solution, links), vertex_lists(elements));
 }
 
 GatherOutcome gather_hierarchical_point_values(
@@ -116,15 +199,21 @@ GatherOutcome gather_hierarchical_point_values(
     const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
     check_gather_mode(mode);
     if (mode == "none") return GatherOutcome::not_asked;
-    const LinkSources sources = link_sources(solution, elements);
-    if (sources.pairs > kMaxGatherPairs) return GatherOutcome::over_budget;
+    if (elements.size() != solution.leaves.size())
+        throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
+    const NodeLinks links = node_links(solution);
+    const std::vector<std::uint32_t> vertex_list = vertex_lists(elements);
+    if (gather_pairs(solution, path_link_counts(solution, links), vertex_list) > kMaxGatherPairs)
+        return GatherOutcome::over_budget;
+    const LinkSources sources = link_sources(solution, links);
     const GatherOptions options = point_value_options();
     const auto& nodes = solution.tree.geometry();
     std::vector<Rgb> centres;  // with a power epsilon: the leaves re-gathered first
     return run_point_gather(
         mode, res, cancel, progress,
         [&](const auto& report) {
-            GatherSources at{sources.vertex_list, sources.offsets, sources.nodes, solution.cluster_irradiance};
+            GatherSources at{vertex_list, sources.offsets, sources.nodes, solution.cluster_irradiance};
+            at.unblocked = sources.unblocked;
             std::vector<Rgb> regathered;
             if (solution.power_epsilon > 0) {
                 centres = centre_values(solution, elements, sources, visibility, options, cancel,

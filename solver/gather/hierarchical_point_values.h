@@ -27,7 +27,8 @@ double hierarchical_gather_pairs(const HierarchicalSolution& solution, const Pat
 /// (`elements`, from solution.tree.conforming_mesh(solution.leaves)): each vertex gathers,
 /// with the exact point kernel and visibility, from the other ends of the element links of
 /// the leaf it lies on and of that leaf's ancestors (those whose form factor's rays were all
-/// blocked too: the vertex traces its own), at their radiosity, going down to a near source's
+/// blocked too: the vertex traces its own; none over a link a shaft test proves unblocked,
+/// ShaftCuller::unblocked), at their radiosity, going down to a near source's
 /// children where their values differ (GatherSources::descend); what came over links with a
 /// cluster end is added as the solve computed it (solution.cluster_irradiance). Its cost is
 /// at least vertices x links per path, not vertices x leaves; over kMaxGatherPairs of those

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include <glm/common.hpp>
@@ -196,14 +197,16 @@ bool ShaftCuller::clear(std::size_t i, std::size_t j) const {
     return true;
 }
 
-void ShaftCuller::candidates(std::size_t i, std::size_t j, std::vector<std::uint32_t>& out) const {
-    out.clear();
+template <class Found>
+void ShaftCuller::walk(const Patch& p, const Patch& q, std::size_t i, std::size_t j, Found&& found) const {
     if (m_patches.empty()) return;
-    const Patch& p = m_patches[i];
-    const Patch& q = m_patches[j];
     const double tol = m_tol;
     // The shaft: the box of both patches and the supporting planes of their convex hull.
-    const glm::dvec3 lo = glm::min(m_lo[i], m_lo[j]) - tol, hi = glm::max(m_hi[i], m_hi[j]) + tol;
+    glm::dvec3 lo = p.vertices[0], hi = p.vertices[0];
+    for (int v = 0; v < p.vertex_count; ++v) lo = glm::min(lo, p.vertices[v]), hi = glm::max(hi, p.vertices[v]);
+    for (int v = 0; v < q.vertex_count; ++v) lo = glm::min(lo, q.vertices[v]), hi = glm::max(hi, q.vertices[v]);
+    lo -= tol;
+    hi += tol;
     const ShaftCorners c = shaft_corners(p, q);
     const auto& pts = c.pts;
     const int np = c.count;
@@ -274,9 +277,25 @@ void ShaftCuller::candidates(std::size_t i, std::size_t j, std::vector<std::uint
                 neg &= h <= tol;
             }
             if (pos || neg) continue;
-            out.push_back(k);
+            if (found(k)) return;
         }
     }
+}
+
+void ShaftCuller::candidates(std::size_t i, std::size_t j, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    if (m_patches.empty()) return;
+    walk(m_patches[i], m_patches[j], i, j, [&out](std::uint32_t k) {
+        out.push_back(k);
+        return false;
+    });
+}
+
+bool ShaftCuller::unblocked(const Patch& p, const Patch& q) const {
+    constexpr auto none = std::numeric_limits<std::size_t>::max();
+    bool blocked = false;
+    walk(p, q, none, none, [&blocked](std::uint32_t) { return blocked = true; });
+    return !blocked;
 }
 
 }  // namespace bounce

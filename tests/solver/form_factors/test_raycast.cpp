@@ -10,11 +10,14 @@
 
 #include "mesh/patch_mesh.h"
 #include "mesh/validation_scenes.h"
+#include "solver/counting_visibility.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
+#include "solver/form_factors/patch_sampling.h"
 #include "solver/form_factors/raycast_form_factor.h"
 #include "solver/form_factors/reference_form_factors.h"
 #include "solver/form_factors/surface_form_factor.h"
+#include "solver/visibility/shaft_culler.h"
 #include "solver/visibility/visibility.h"
 
 using namespace bounce;
@@ -223,29 +226,6 @@ TEST(Visibility, ARayStartingAtAPerpendicularWallIsNotBlockedByIt) {
     }
 }
 
-namespace {
-
-/// Counts the segments traced through an inner backend.
-class CountingVisibility final : public Visibility {
-public:
-    explicit CountingVisibility(std::unique_ptr<Visibility> inner) : m_inner(std::move(inner)) {}
-    bool occluded(const glm::dvec3& a, const glm::dvec3& b) const override {
-        ++segments;
-        return m_inner->occluded(a, b);
-    }
-    void occluded(std::span<const Segment> s, std::span<std::uint8_t> blocked) const override {
-        segments += s.size();
-        m_inner->occluded(s, blocked);
-    }
-    std::string name() const override { return "counting " + m_inner->name(); }
-    mutable std::atomic<std::size_t> segments{0};
-
-private:
-    std::unique_ptr<Visibility> m_inner;
-};
-
-}  // namespace
-
 TEST(RaycastFormFactor, AnEmptyConvexRoomCastsNoRaysAndABlockedSceneDoes) {
     // Every plane of an empty box lies beside every pair's shaft (ShaftCuller::clear), so no
     // ray is needed; with a blocker between two plates the pairs behind it still trace rays.
@@ -301,4 +281,55 @@ TEST(RaycastFormFactor, ARotatedEmptyRoomCastsNoRaysEither) {
     const auto ff2 = make_form_factor_estimator("raycast", inner.patches(), &around, {});
     const auto F2 = FormFactorMatrix::build(*ff2, inner.size(), std::size_t(1) << 30);
     EXPECT_GT(around.segments.load(), 0u);
+}
+
+// ShaftCuller::unblocked for polygons the culler does not hold (a hierarchy's elements against
+// the input patches): the quarters of two facing plates, with a blocker over part of the gap.
+// Every pair it proves unblocked must pass all of 256 rays; the pair straight across the
+// blocker must not be proved; and the plates the quarters lie on never count as blockers.
+TEST(ShaftCuller, ProvesPolygonsOutsideItsPatchesUnblockedOnlyWhenNothingLiesBetween) {
+    Scene s = parallel_pair(1, 1, 1);
+    s.surfaces.push_back(
+        {{{0.1, 0.1, 0.5}, {0.4, 0.1, 0.5}, {0.4, 0.4, 0.5}, {0.1, 0.4, 0.5}}, 0, "blocker", {"t", 0}});
+    const PatchMesh input(s, MeshingOptions{.subdivide = false});
+    const ShaftCuller culler(input.patches());
+    const auto vis = make_visibility("embree", input.patches());
+    MeshingOptions quarters;
+    quarters.max_edge = 0.5 * (1 + 1e-9);
+    const PatchMesh plates(parallel_pair(1, 1, 1), quarters);
+    ASSERT_EQ(plates.size(), 8u);
+    SplitMix64 rng{7};
+    std::size_t proved = 0, refused = 0;
+    for (std::size_t i = 0; i < plates.size(); ++i)
+        for (std::size_t j = 0; j < plates.size(); ++j) {
+            const Patch &p = plates.patches()[i], &q = plates.patches()[j];
+            if (p.surface != 0 || q.surface != 1) continue;
+            const bool unblocked = culler.unblocked(p, q);
+            (unblocked ? proved : refused) += 1;
+            std::vector<Visibility::Segment> rays;
+            for (int r = 0; r < 256; ++r)
+                rays.push_back({patch_point(p, rng.uniform(), rng.uniform()) + vis->offset() * p.normal,
+                                patch_point(q, rng.uniform(), rng.uniform()) + vis->offset() * q.normal});
+            const double open = vis->open_fraction(rays);
+            if (unblocked) {
+                EXPECT_EQ(open, 1.0) << "quarters " << i << " and " << j;
+            }
+            // Both over the blocker's corner (x, y < 0.5): the blocker lies in their shaft.
+            if (p.centre.x < 0.5 && p.centre.y < 0.5 && q.centre.x < 0.5 && q.centre.y < 0.5) {
+                EXPECT_FALSE(unblocked);
+                EXPECT_LT(open, 1.0);
+            }
+        }
+    EXPECT_EQ(proved + refused, 16u);
+    // Quarters far from the blocker's corner (x and y both over 0.5 on each plate) see each other past it.
+    EXPECT_GE(proved, 1u);
+    EXPECT_GE(refused, 1u);
+    // Without the blocker nothing is ever in the way.
+    const PatchMesh open_pair(parallel_pair(1, 1, 1), MeshingOptions{.subdivide = false});
+    const ShaftCuller empty(open_pair.patches());
+    for (const Patch& p : plates.patches())
+        for (const Patch& q : plates.patches())
+            if (p.surface != q.surface) {
+                EXPECT_TRUE(empty.unblocked(p, q));
+            }
 }

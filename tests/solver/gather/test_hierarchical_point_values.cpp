@@ -13,6 +13,7 @@
 
 #include "mesh/patch_mesh.h"
 #include "mesh/validation_scenes.h"
+#include "solver/counting_visibility.h"
 #include "solver/form_factors/patch_sampling.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/gather/hierarchical_point_values.h"
@@ -214,4 +215,46 @@ TEST(HierarchicalPointValues, PartlyVisibleLinksRefineThePenumbra) {
     // all 4 lit one time in five and stayed whole.
     EXPECT_LT(refined.rms_smooth, 0.1);
     EXPECT_LT(refined.rms_smooth, 0.2 * kept.rms_smooth);
+}
+
+// Links a shaft test proves unblocked (nothing of the scene between their two ends) are
+// gathered without rays, at their whole unoccluded factor. Over a plane lit by a lamp with
+// nothing in between, every link is so proved: the gather traces no ray at all and still gives
+// Lambert's formula at every vertex. Add a blocker and the links across it trace their rays
+// again (the penumbra test above scores what they find).
+TEST(HierarchicalPointValues, ShaftTestedLinksAreGatheredWithoutRays) {
+    for (const bool blocker : {false, true}) {
+        SCOPED_TRACE(blocker ? "with a blocker" : "nothing in between");
+        const Scene s = blocker ? lamp_blocker_plane() : lamp_over_plane();
+        MeshingOptions o;
+        o.subdivide = false;
+        const PatchMesh m(s, o);
+        const auto vis = make_visibility("embree", m.patches());
+        HierarchicalOptions h;
+        h.link_epsilon = 0.3;
+        h.power_epsilon = 1e-3;  // the leaves' centres are gathered too
+        const HierarchicalSolution sol = solve_hierarchical(m.patches(), *vis, h);
+        const PatchMesh elements = sol.tree.conforming_mesh(sol.leaves);
+        const CountingVisibility counted(make_visibility("embree", elements.patches()));
+        SolveResult res = sol.result;
+        ASSERT_EQ(gather_hierarchical_point_values(sol, elements, counted, res, "vertices"), GatherOutcome::gathered);
+        const auto points = vertex_gather_points(elements);
+        if (blocker) {
+            // Every vertex of the plane at least traces rays past the blocker's shadow side.
+            EXPECT_GT(counted.segments.load(), points.size());
+            continue;
+        }
+        EXPECT_EQ(counted.segments.load(), 0u);
+        std::size_t checked = 0;
+        for (std::size_t v = 0; v < points.size(); ++v) {
+            if (points[v].surface != 0) continue;
+            const double F = point_polygon_form_factor(points[v].position, {0, 0, 1}, s.surfaces[1].vertices);
+            for (int c = 0; c < 3; ++c) {
+                const double want = 0.5 * Rgb(3, 2, 1)[c] * F;
+                ASSERT_NEAR(res.point_radiosity[v][c], want, 5e-4 * want + 1e-12) << "vertex " << v;
+            }
+            ++checked;
+        }
+        EXPECT_GT(checked, 50u);
+    }
 }
