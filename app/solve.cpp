@@ -52,7 +52,12 @@ struct SolveCommand {
     // Options of the receiver-only refinement --adaptive ran before: refused with a message.
     std::vector<std::string> retired;
     HierarchicalOptions hierarchical;
-    bool no_clustering = false;       // hierarchical: refine every pair of patches, no cluster hierarchy
+    bool no_clustering = false;  // hierarchical: refine every pair of patches, no cluster hierarchy
+    // Given, --tolerance and --max-iterations stop the hierarchical iterations too.
+    const CLI::Option* tolerance = nullptr;
+    const CLI::Option* max_iterations = nullptr;
+    // Options of the patch solvers alone: given with --adaptive or hierarchical, refused by name.
+    std::vector<std::pair<std::string, const CLI::Option*>> patch_solver_only;
     std::string gather = "vertices";  // point values: final gather at the vertices (point_values.h)
 };
 
@@ -82,6 +87,9 @@ std::string file_status(const SolveResult& res) {
 int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std::filesystem::path& out) {
     if (s.element_split > 1) throw std::invalid_argument("--elements does not combine with --adaptive or hierarchical");
     if (s.method != "raycast") throw std::invalid_argument("--adaptive and hierarchical use raycast form factors");
+    for (const auto& [name, option] : s.patch_solver_only)
+        if (option->count() > 0)
+            throw std::invalid_argument(name + " applies to the patch solvers, not to --adaptive or hierarchical");
     CommonOptions roots = o;
     // Start coarse: the elements refine where the light needs it.
     if (default_meshing(o)) roots.meshing.target_patches = 30;
@@ -99,6 +107,8 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         HierarchicalOptions h = s.hierarchical;
         if (s.adaptive) h.power_epsilon = adaptive_power_epsilon(h.power_epsilon);
         h.clustering = !s.no_clustering;
+        if (s.tolerance->count() > 0) h.tolerance = s.options.tolerance;
+        if (s.max_iterations->count() > 0) h.max_iterations = s.options.max_iterations;
         h.form_factors = s.ff;
         h.cancel = &g_interrupted;
         h.progress = [&](const std::string& stage, std::size_t done, std::size_t total) {
@@ -332,25 +342,34 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                      "hierarchical: quadtree depth under each input face, or under 1/2000 of the scene's area where a "
                      "face is smaller (4)")
         ->check(in_range(0, 12));
-    solve_cmd
-        ->add_option("--tolerance", solve->options.tolerance,
-                     "stop below this unshot fraction (shooting) or relative residual (others); 1e-3")
-        ->check(kPositive);
-    solve_cmd->add_option("--max-shots,--max-iterations", solve->options.max_iterations,
-                          "stop after this many shots or sweeps (default 100 N shots, 10000 sweeps)");
-    solve_cmd->add_option("--max-seconds", solve->options.max_seconds, "stop after this many seconds")
-        ->check(CLI::NonNegativeNumber);
-    solve_cmd->add_option("--sor", solve->options.sor, "over-relaxation factor for jacobi and gauss-seidel, (0,2)")
-        ->check(in_range(0.0, 2.0));
-    solve_cmd->add_option("--log", solve->log_csv, "write the convergence log (CSV)");
-    solve_cmd->add_flag("--overshoot", solve->options.overshoot, "shooting: over-shoot by rho times the ambient term");
+    solve->tolerance = solve_cmd
+                           ->add_option("--tolerance", solve->options.tolerance,
+                                        "stop below this unshot fraction (shooting), relative residual (others) or "
+                                        "largest change of an element's radiosity per iteration, relative to the "
+                                        "mean (hierarchical); 1e-3, hierarchical 1e-6")
+                           ->check(kPositive);
+    solve->max_iterations =
+        solve_cmd->add_option("--max-shots,--max-iterations", solve->options.max_iterations,
+                              "stop after this many shots or sweeps (default 100 N shots, 10000 sweeps, "
+                              "hierarchical 1000 iterations)");
+    auto& only = solve->patch_solver_only;
+    only.emplace_back("--max-seconds",
+                      solve_cmd->add_option("--max-seconds", solve->options.max_seconds, "stop after this many seconds")
+                          ->check(CLI::NonNegativeNumber));
+    only.emplace_back(
+        "--sor",
+        solve_cmd->add_option("--sor", solve->options.sor, "over-relaxation factor for jacobi and gauss-seidel, (0,2)")
+            ->check(in_range(0.0, 2.0)));
+    only.emplace_back("--log", solve_cmd->add_option("--log", solve->log_csv, "write the convergence log (CSV)"));
+    only.emplace_back("--overshoot", solve_cmd->add_flag("--overshoot", solve->options.overshoot,
+                                                         "shooting: over-shoot by rho times the ambient term"));
     solve_cmd
         ->add_option("--elements", solve->element_split,
                      "shooting: cut every patch into KxK elements that receive (patches shoot to elements)")
         ->check(in_range(1, 64));
-    solve_cmd->add_option(
-        "--cache-mb", solve->options.cache_mb,
-        "shooting: memory for cached form-factor rows (MB, default 1024); rows beyond it are recomputed");
+    only.emplace_back("--cache-mb", solve_cmd->add_option("--cache-mb", solve->options.cache_mb,
+                                                          "shooting: memory for cached form-factor rows (MB, default "
+                                                          "1024); rows beyond it are recomputed"));
     solve_cmd->add_option("--max-matrix-mb", solve->max_matrix_mb, "refuse a matrix larger than this (MB; 2048)");
     solve_cmd->add_option("--form-factors", solve->method, "raycast, exact, hemicube, or analytic (no occlusion)")
         ->check(CLI::IsMember(form_factor_methods()));
@@ -363,8 +382,9 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                         "store the text fields (scene, solver, ...) as Int8 char arrays, which meshio reads; "
                         "by default they are VTK string arrays, which ParaView shows as text and meshio refuses");
     solve_cmd->add_option("--png", solve->png, "render the result to this PNG after solving");
-    solve_cmd->add_option("--series", solve->series,
-                          "also write a .pvd time series: a snapshot every N shots or sweeps");
+    only.emplace_back("--series", solve_cmd->add_option("--series", solve->series,
+                                                        "also write a .pvd time series: a snapshot every N shots or "
+                                                        "sweeps"));
     add_render_options(solve_cmd, solve->render);
     return {solve_cmd, [&common, solve] { return run_solve(common, *solve); }};
 }

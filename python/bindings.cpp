@@ -367,10 +367,11 @@ struct SolutionData {
 };
 
 std::shared_ptr<SolutionData> solve(
-    const std::shared_ptr<SceneData>& s, const std::string& solver_name, double tolerance, std::int64_t max_iterations,
-    double max_seconds, double sor, bool overshoot, std::size_t cache_mb, const std::string& method,
-    std::optional<int> rays, int receiver_samples, int hemicube_res, bool hemicube_jitter, std::uint64_t seed,
-    std::size_t max_matrix_mb, const std::string& gather, bool residuals,
+    const std::shared_ptr<SceneData>& s, const std::string& solver_name, std::optional<double> tolerance_given,
+    std::optional<std::int64_t> max_iterations_given, std::optional<double> max_seconds_given,
+    std::optional<double> sor_given, std::optional<bool> overshoot_given, std::optional<std::size_t> cache_mb_given,
+    const std::string& method, std::optional<int> rays, int receiver_samples, int hemicube_res, bool hemicube_jitter,
+    std::uint64_t seed, std::size_t max_matrix_mb, const std::string& gather, bool residuals,
     const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& reference, bool adaptive,
     const py::object& target_error, const py::object& max_patches, double link_epsilon,
     std::optional<double> power_epsilon, int refine_rounds, int max_level, bool clustering,
@@ -389,6 +390,18 @@ std::shared_ptr<SolutionData> solve(
                              "the hierarchical solver refining on power; set power_epsilon");
     if (elements && (residuals || reference))
         throw InputError("residuals and reference apply to the patch solvers, not to adaptive or hierarchical");
+    // As the command line: tolerance and max_iterations, given, stop the hierarchical iterations
+    // too; the patch solvers' other options are refused by name.
+    for (const auto& [name, given] :
+         {std::pair("max_seconds", max_seconds_given.has_value()), std::pair("sor", sor_given.has_value()),
+          std::pair("overshoot", overshoot_given.has_value()), std::pair("cache_mb", cache_mb_given.has_value())})
+        if (elements && given)
+            throw InputError(std::string(name) + " applies to the patch solvers, not to adaptive or hierarchical");
+    const double tolerance = tolerance_given.value_or(SolverOptions{}.tolerance);
+    const std::int64_t max_iterations = max_iterations_given.value_or(0);
+    const double max_seconds = max_seconds_given.value_or(0.0), sor = sor_given.value_or(1.0);
+    const bool overshoot = overshoot_given.value_or(false);
+    const std::size_t cache_mb = cache_mb_given.value_or(SolverOptions{}.cache_mb);
     // As the command line: adaptive takes kAdaptivePowerEpsilon unless a power epsilon above 0 is given.
     double power = power_epsilon.value_or(0.0);
     check_range("power_epsilon", power, 0.0, 1.0);
@@ -430,6 +443,8 @@ std::shared_ptr<SolutionData> solve(
                 h.refine_rounds = refine_rounds;
                 h.max_level = max_level;
                 h.clustering = clustering;
+                if (tolerance_given) h.tolerance = tolerance;
+                if (max_iterations_given) h.max_iterations = std::size_t(max_iterations);
                 h.form_factors = f;
                 h.cancel = &job.cancel;
                 h.progress = [&job](const std::string& stage, std::size_t d, std::size_t t) {
@@ -892,20 +907,24 @@ PYBIND11_MODULE(_bounce, m) {
           "Row sums and reciprocity of F over the scene's patches, as `bounce form-factors --check` prints them: "
           "a dict of row_sums (N,), row_sum_min/mean/max, deviation_min/mean/max (|sum - 1|), reciprocity_max "
           "(max |A_i F_ij - A_j F_ji| / (A_i F_ij) over F_ij >= 1e-3) and reciprocity_overall.");
-    m.def("solve", &solve, py::arg("scene"), py::kw_only(), py::arg("solver") = "shooting", py::arg("tolerance") = 1e-3,
-          py::arg("max_iterations") = 0, py::arg("max_seconds") = 0.0, py::arg("sor") = 1.0,
-          py::arg("overshoot") = false, py::arg("cache_mb") = 1024, py::arg("form_factors") = "raycast",
-          py::arg("rays") = py::none(), py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256,
-          py::arg("hemicube_jitter") = false, py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048,
-          py::arg("gather") = "vertices", py::arg("residuals") = false, py::arg("reference") = py::none(),
-          py::arg("adaptive") = false, py::arg("target_error") = py::none(), py::arg("max_patches") = py::none(),
-          py::arg("link_epsilon") = 0.1, py::arg("power_epsilon") = py::none(),
-          py::arg("refine_rounds") = HierarchicalOptions{}.refine_rounds, py::arg("max_level") = 4,
-          py::arg("clustering") = true, py::arg("progress") = py::none(),
+    m.def("solve", &solve, py::arg("scene"), py::kw_only(), py::arg("solver") = "shooting",
+          py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(),
+          py::arg("max_seconds") = py::none(), py::arg("sor") = py::none(), py::arg("overshoot") = py::none(),
+          py::arg("cache_mb") = py::none(), py::arg("form_factors") = "raycast", py::arg("rays") = py::none(),
+          py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256, py::arg("hemicube_jitter") = false,
+          py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048, py::arg("gather") = "vertices",
+          py::arg("residuals") = false, py::arg("reference") = py::none(), py::arg("adaptive") = false,
+          py::arg("target_error") = py::none(), py::arg("max_patches") = py::none(), py::arg("link_epsilon") = 0.1,
+          py::arg("power_epsilon") = py::none(), py::arg("refine_rounds") = HierarchicalOptions{}.refine_rounds,
+          py::arg("max_level") = 4, py::arg("clustering") = true, py::arg("progress") = py::none(),
           "Radiosity of the scene, as `bounce solve` computes it with the same options (the keywords are its "
           "flags: solver shooting, gauss-seidel, jacobi, direct or hierarchical; form_factors raycast, exact, "
           "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive, the hierarchical "
           "solver with power_epsilon 1e-5 unless given; target_error and max_patches are retired and refused). "
+          "Unset, tolerance is 1e-3 (hierarchical: 1e-6, the largest change of an element per iteration relative to "
+          "the mean), max_iterations 100 N shots or 10000 sweeps (hierarchical: 1000), max_seconds none, sor 1, "
+          "overshoot off, cache_mb 1024; max_seconds, sor, overshoot and cache_mb are refused with adaptive or "
+          "hierarchical. "
           "residuals=True builds the matrix for shooting too, so its history has residuals; reference (N x 3) "
           "adds the error columns. progress(bounce.Progress) is called up to 20 times a second; Ctrl-C raises "
           "KeyboardInterrupt within a shot or sweep.");

@@ -474,6 +474,44 @@ TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
     EXPECT_EQ(bounce_run("solve --solver hierarchical --refine-rounds 0").exit_code, 2);
 }
 
+// --tolerance and --max-iterations stop the hierarchical iterations too (1e-6 and 1000 unless
+// given); the patch solvers' other options are refused by name, not ignored.
+TEST(Cli, HierarchicalTakesTheStoppingOptionsAndRefusesThePatchSolversOthers) {
+    test::TempDir dir;
+    const auto iterations = [](const std::string& out) {
+        const auto at = out.find(" iterations, ");
+        const auto from = out.rfind(", ", at) + 2;
+        return at == std::string::npos ? -1 : std::stoi(out.substr(from, at - from));
+    };
+    const std::string base = "solve --solver hierarchical --max-level 2 --gather none -o " + (dir / "h.vtu").string();
+    const auto standard = bounce_run(base);
+    ASSERT_EQ(standard.exit_code, 0) << standard.err;
+    const auto loose = bounce_run(base + " --tolerance 1e-2");
+    ASSERT_EQ(loose.exit_code, 0) << loose.err;
+    EXPECT_LT(iterations(loose.out), iterations(standard.out)) << loose.out << standard.out;
+    EXPECT_GT(iterations(loose.out), 0) << loose.out;
+    // Stopped early: the solution is written and the exit code says it did not converge.
+    const auto capped = bounce_run(base + " --max-iterations 2");
+    EXPECT_EQ(capped.exit_code, 3) << capped.err;
+    EXPECT_EQ(iterations(capped.out), 2) << capped.out;
+    EXPECT_TRUE(std::filesystem::exists(dir / "h.vtu"));
+    for (const std::string& option :
+         std::vector<std::string>{"--max-seconds 5", "--sor 1.2", "--log " + (dir / "log.csv").string(), "--overshoot",
+                                  "--cache-mb 10", "--series 5"}) {
+        for (const std::string solver : {"--solver hierarchical", "--adaptive"}) {
+            const auto r = bounce_run("solve " + solver + " " + option + " -o " + (dir / "x.vtu").string());
+            EXPECT_EQ(r.exit_code, 2) << option;
+            EXPECT_NE(r.err.find(option.substr(0, option.find(' ')) +
+                                 " applies to the patch solvers, not to --adaptive or hierarchical"),
+                      std::string::npos)
+                << r.err;
+            EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        }
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.vtu"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "log.csv"));
+}
+
 TEST(Cli, CompareMeshesWritesRowsForEveryMethodAgainstOneReference) {
     test::TempDir dir;
     const auto r = bounce_run(

@@ -61,6 +61,13 @@ def test_bad_options_are_value_errors_in_the_command_lines_words(run_cli):
         with pytest.raises(ValueError, match="retired: adaptive is the hierarchical solver refining on power"):
             bounce.solve(scene, adaptive=True, **retired)
     assert "now retired: --adaptive is the hierarchical solver" in cli_message(run_cli, "solve", "--target-error", "0.1")
+    # The patch solvers' own options are refused by adaptive and hierarchical, as on the command line.
+    for option, value in (("max_seconds", 5.0), ("sor", 1.2), ("overshoot", True), ("cache_mb", 10)):
+        for kind in ({"solver": "hierarchical"}, {"adaptive": True}):
+            with pytest.raises(ValueError, match=f"{option} applies to the patch solvers, not to adaptive or hierarchical"):
+                bounce.solve(scene, gather="none", **kind, **{option: value})
+    cli = cli_message(run_cli, "solve", "--solver", "hierarchical", "--sor", "1.2")
+    assert "--sor applies to the patch solvers, not to --adaptive or hierarchical" in cli
 
 
 def test_unwritable_output(tmp_path):

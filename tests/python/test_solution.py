@@ -139,3 +139,21 @@ def test_adaptive_reports_the_hierarchical_rounds_and_takes_a_given_power_epsilo
     # A coarser power bound links fewer, larger elements than the default 1e-5.
     assert len(sol.patches) < len(default.patches)
     assert any(stage.startswith("round 1/1: ") for stage in stages), stages
+
+
+def test_hierarchical_stops_at_a_given_tolerance_or_iteration_count(run_cli, tmp_path):
+    # As --tolerance and --max-iterations: unset, the hierarchical iterations settle to 1e-6.
+    scene = bounce.load("cornell", patches=60)
+    standard = bounce.solve(scene, solver="hierarchical", max_level=2, gather="none")
+    loose = bounce.solve(scene, solver="hierarchical", max_level=2, tolerance=1e-2, gather="none")
+    capped = bounce.solve(scene, solver="hierarchical", max_level=2, max_iterations=2, gather="none")
+    assert standard.converged and loose.converged
+    assert 0 < loose.steps < standard.steps
+    assert capped.steps == 2 and not capped.converged
+    out = tmp_path / "capped.vtu"
+    code, _, err = run_cli("solve", "--patches", 60, "--solver", "hierarchical", "--max-level", 2,
+                           "--max-iterations", 2, "--gather", "none", "--meshio", "-q", "-o", out)
+    assert code == 3, err
+    cli = meshio.read(out)
+    assert int(np.asarray(cli.field_data["steps"]).ravel()[0]) == capped.steps
+    assert_same(capped.radiosity, cell_array(cli, "radiosity"), "radiosity after two iterations")
