@@ -92,16 +92,12 @@ struct LinkSources {
     std::vector<std::uint8_t> unblocked;  // per entry of nodes
 };
 
-/// A shaft test that proves a link unblocked costs about one plane test per plane group of the
-/// scene (ShaftCuller::plane_groups); it spares every gather point under either end the rays
-/// to the other (GatherOptions: ceil(64 F), 1 to 16, 16 to an emitter), each worth about
-/// sixteen plane tests with its target and kernel. So a link is tested when the rays it could
-/// spare, times this, reach the plane groups. The Cornell box has 11 groups and every link is
-/// tested (69 ms for 272k links at power epsilon 3e-6); the 10k office has 3585, where testing
-/// every link cost 24 s more than it spared (its hierarchical solve at 3e-6: 58 s -> 80 s), and
-/// this rule takes it to 55 s.
-constexpr double kPlaneTestsPerRay = 16.0;
-
+/// A shaft test that proves a link unblocked spares every gather point under either end the
+/// rays to the other (GatherOptions: ceil(64 F), 1 to 16, 16 to an emitter); it is made when
+/// those rays outweigh the scene's plane groups (ShaftCuller::kPlaneTestsPerRay). The Cornell
+/// box has 11 groups and every link is tested (69 ms for 272k links at power epsilon 3e-6); the
+/// 10k office has 3585, where testing every link cost 24 s more than it spared (its
+/// hierarchical solve at 3e-6: 58 s -> 80 s), and the rule takes it to 55 s.
 LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links) {
     const ElementTree& tree = sol.tree;
     const auto& G = tree.geometry();
@@ -122,7 +118,7 @@ LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links
         if (!l.between_elements() || l.visible == 0.0f) return;
         const double fba = double(l.fab) * G[l.a].area / G[l.b].area;
         const double spared = leaves_under[l.a] * rays_to(l.b, l.fab) + leaves_under[l.b] * rays_to(l.a, fba);
-        if (spared * kPlaneTestsPerRay >= planes) link_unblocked[k] = culler.unblocked(G[l.a], G[l.b]);
+        if (spared * ShaftCuller::kPlaneTestsPerRay >= planes) link_unblocked[k] = culler.unblocked(G[l.a], G[l.b]);
     });
     LinkSources out;
     out.offsets.push_back(0);

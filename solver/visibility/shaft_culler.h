@@ -24,6 +24,12 @@ namespace bounce {
 /// by plane first, so a wall of many patches is rejected by one test.
 class ShaftCuller {
 public:
+    /// A shadow ray, with its target and kernel, costs about this many of unblocked()'s plane
+    /// tests (the Cornell box's gather: 5.7 million rays spared for 272k tests of 11 planes
+    /// saved 0.3 s). Callers test a pair when the rays it could spare, times this, reach
+    /// plane_groups(): in a room every pair, among furniture only pairs that spare many rays.
+    static constexpr double kPlaneTestsPerRay = 16.0;
+
     explicit ShaftCuller(const std::vector<Patch>& patches);
 
     /// Replaces `out` with the candidate blockers of the pair (i, j) (neither i nor j).
