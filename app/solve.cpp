@@ -108,7 +108,8 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         if (s.adaptive) h.power_epsilon = adaptive_power_epsilon(h.power_epsilon);
         h.clustering = !s.no_clustering;
         if (s.tolerance->count() > 0) h.tolerance = s.options.tolerance;
-        if (s.max_iterations->count() > 0) h.max_iterations = s.options.max_iterations;
+        // 0, as for the patch solvers, is the default.
+        if (s.max_iterations->count() > 0 && s.options.max_iterations > 0) h.max_iterations = s.options.max_iterations;
         h.form_factors = s.ff;
         h.cancel = &g_interrupted;
         h.progress = [&](const std::string& stage, std::size_t done, std::size_t total) {

@@ -444,7 +444,7 @@ std::shared_ptr<SolutionData> solve(
                 h.max_level = max_level;
                 h.clustering = clustering;
                 if (tolerance_given) h.tolerance = tolerance;
-                if (max_iterations_given) h.max_iterations = std::size_t(max_iterations);
+                if (max_iterations > 0) h.max_iterations = std::size_t(max_iterations);  // 0: the default
                 h.form_factors = f;
                 h.cancel = &job.cancel;
                 h.progress = [&job](const std::string& stage, std::size_t d, std::size_t t) {

@@ -169,6 +169,8 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
                               const std::function<void(std::size_t, std::size_t)>& progress) {
     if (sources.list.size() != points.size())
         throw std::invalid_argument("final gather: a source list is needed for every point");
+    if (!sources.unblocked.empty() && sources.unblocked.size() != sources.patches.size())
+        throw std::invalid_argument("final gather: the unblocked marks must be one per listed source");
     if (sources.descend > 0 &&
         (sources.first_child.size() != patches.size() || sources.spread.size() != patches.size()))
         throw std::invalid_argument("final gather: going down to children needs them and their spread for every patch");

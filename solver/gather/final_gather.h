@@ -74,8 +74,9 @@ struct GatherSources {
     std::span<const std::int32_t> first_child = {};
     std::span<const double> spread = {};
     double descend = 0.0;
-    /// Optional, per entry of `patches`: 1 where a shaft test proved the source wholly visible
-    /// from every point of the list's element (ShaftCuller::unblocked, Haines and Wallace 1991):
+    /// Optional, per entry of this struct's `patches` span (as long as it): 1 where a shaft test
+    /// proved the source wholly visible from every point of the list's element, which the
+    /// list's points must lie in (ShaftCuller::unblocked, Haines and Wallace 1991):
     /// it takes its unoccluded factor whole and no rays. Children gone down to keep the mark
     /// (their shafts lie inside their parent's).
     std::span<const std::uint8_t> unblocked = {};

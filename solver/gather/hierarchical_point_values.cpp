@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -60,11 +62,22 @@ std::vector<std::size_t> path_link_counts(const HierarchicalSolution& sol, const
     return out;
 }
 
-/// A vertex takes the last element around it, as vertex_gather_points takes its surface.
-std::vector<std::uint32_t> vertex_lists(const PatchMesh& elements) {
-    std::vector<std::uint32_t> out(elements.mesh().n_vertices(), 0);
+/// Each vertex's list: that of the element around it its gather point lies in (the points are
+/// moved off the vertices, towards the centres around them: vertex_gather_points), else of
+/// the last element around it. A source's mark (LinkSources) holds for the points of the
+/// list's element only: a point in a neighbour across a seam, where a wall may stand on the
+/// floor, could see less of the source.
+std::vector<std::uint32_t> vertex_lists(const PatchMesh& elements, std::span<const GatherPoint> points) {
+    constexpr auto none = std::numeric_limits<std::uint32_t>::max();
+    const auto& P = elements.patches();
+    std::vector<std::uint32_t> out(elements.mesh().n_vertices(), none), last(out.size(), 0);
     for (std::size_t k = 0; k < elements.size(); ++k)
-        for (const int v : elements.patch_vertex_indices(k)) out[std::size_t(v)] = std::uint32_t(k);
+        for (const int v : elements.patch_vertex_indices(k)) {
+            last[std::size_t(v)] = std::uint32_t(k);
+            if (covers(P[k], points[std::size_t(v)].position, 1e-9 * P[k].area)) out[std::size_t(v)] = std::uint32_t(k);
+        }
+    for (std::size_t v = 0; v < out.size(); ++v)
+        if (out[v] == none) out[v] = last[v];
     return out;
 }
 
@@ -98,14 +111,16 @@ struct LinkSources {
 /// box has 11 groups and every link is tested (69 ms for 272k links at power epsilon 3e-6); the
 /// 10k office has 3585, where testing every link cost 24 s more than it spared (its
 /// hierarchical solve at 3e-6: 58 s -> 80 s), and the rule takes it to 55 s.
-LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links) {
+LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links, const std::atomic<bool>* cancel) {
     const ElementTree& tree = sol.tree;
     const auto& G = tree.geometry();
     std::vector<std::uint32_t> leaves_under(tree.size(), 0);
     for (const std::uint32_t leaf : sol.leaves)
         for (std::int64_t a = leaf; a >= 0; a = tree.node(std::size_t(a)).parent) ++leaves_under[std::size_t(a)];
     const GatherOptions options = point_value_options();
-    const auto rays_to = [&](std::uint32_t source, double factor) {
+    // Rays only go from a point that reflects to a source that sends something.
+    const auto rays_to = [&](std::uint32_t receiver, std::uint32_t source, double factor) {
+        if (G[receiver].reflectance.max() <= 0 || sol.node_radiosity[source].max() <= 0) return 0.0;
         if (G[source].emission.max() > 0) return double(options.emitter_rays);
         return std::clamp(std::ceil(factor * options.rays_per_unit_factor), 1.0, double(options.max_rays));
     };
@@ -115,9 +130,9 @@ LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links
     tbb::parallel_for(std::size_t(0), sol.links.size(), [&](std::size_t k) {
         const auto& l = sol.links[k];
         // Links whose rays were all blocked are not tested: their shaft holds a blocker.
-        if (!l.between_elements() || l.visible == 0.0f) return;
+        if (!l.between_elements() || l.visible == 0.0f || (cancel && cancel->load(std::memory_order_relaxed))) return;
         const double fba = double(l.fab) * G[l.a].area / G[l.b].area;
-        const double spared = leaves_under[l.a] * rays_to(l.b, l.fab) + leaves_under[l.b] * rays_to(l.a, fba);
+        const double spared = leaves_under[l.a] * rays_to(l.a, l.b, l.fab) + leaves_under[l.b] * rays_to(l.b, l.a, fba);
         if (spared * ShaftCuller::kPlaneTestsPerRay >= planes) link_unblocked[k] = culler.unblocked(G[l.a], G[l.b]);
     });
     LinkSources out;
@@ -186,7 +201,8 @@ double hierarchical_gather_pairs(const HierarchicalSolution& solution, const Pat
     if (elements.size() != solution.leaves.size())
         throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
     const NodeLinks links = node_links(solution);
-    return gather_pairs(solution, path_link_counts(solution, links), vertex_lists(elements));
+    return gather_pairs(solution, path_link_counts(solution, links),
+                        vertex_lists(elements, vertex_gather_points(elements)));
 }
 
 GatherOutcome gather_hierarchical_point_values(
@@ -198,10 +214,12 @@ GatherOutcome gather_hierarchical_point_values(
     if (elements.size() != solution.leaves.size())
         throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
     const NodeLinks links = node_links(solution);
-    const std::vector<std::uint32_t> vertex_list = vertex_lists(elements);
+    const std::vector<GatherPoint> vertex_points = vertex_gather_points(elements);
+    const std::vector<std::uint32_t> vertex_list = vertex_lists(elements, vertex_points);
     if (gather_pairs(solution, path_link_counts(solution, links), vertex_list) > kMaxGatherPairs)
         return GatherOutcome::over_budget;
-    const LinkSources sources = link_sources(solution, links);
+    const LinkSources sources = link_sources(solution, links, cancel);
+    if (cancel && cancel->load()) return GatherOutcome::interrupted;
     const GatherOptions options = point_value_options();
     const auto& nodes = solution.tree.geometry();
     std::vector<Rgb> centres;  // with a power epsilon: the leaves re-gathered first
@@ -226,8 +244,7 @@ GatherOutcome gather_hierarchical_point_values(
             at.first_child = first_child;
             at.spread = spread;
             at.descend = kDescendShare;
-            res.point_radiosity =
-                final_gather(nodes, B, visibility, vertex_gather_points(elements), at, options, cancel, report);
+            res.point_radiosity = final_gather(nodes, B, visibility, vertex_points, at, options, cancel, report);
         },
         [&](const auto& report) {
             // With a power epsilon the same gather is already done.

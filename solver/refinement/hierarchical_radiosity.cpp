@@ -814,6 +814,7 @@ std::string hierarchical_settings(const HierarchicalOptions& options, const Hier
     s << " solver=hierarchical link_epsilon=" << options.link_epsilon << " power_epsilon=" << options.power_epsilon
       << " link_floor=" << options.link_floor << " max_level=" << options.max_level
       << " refine_rounds=" << options.refine_rounds << " clustering=" << (options.clustering ? 1 : 0)
+      << " tolerance=" << options.tolerance << " max_iterations=" << options.max_iterations
       << " elements=" << solution.leaves.size() << " links=" << solution.links.size();
     return s.str();
 }

@@ -480,8 +480,9 @@ TEST(Cli, HierarchicalTakesTheStoppingOptionsAndRefusesThePatchSolversOthers) {
     test::TempDir dir;
     const auto iterations = [](const std::string& out) {
         const auto at = out.find(" iterations, ");
+        if (at == std::string::npos) return -1;
         const auto from = out.rfind(", ", at) + 2;
-        return at == std::string::npos ? -1 : std::stoi(out.substr(from, at - from));
+        return std::stoi(out.substr(from, at - from));
     };
     const std::string base = "solve --solver hierarchical --max-level 2 --gather none -o " + (dir / "h.vtu").string();
     const auto standard = bounce_run(base);
@@ -491,10 +492,15 @@ TEST(Cli, HierarchicalTakesTheStoppingOptionsAndRefusesThePatchSolversOthers) {
     EXPECT_LT(iterations(loose.out), iterations(standard.out)) << loose.out << standard.out;
     EXPECT_GT(iterations(loose.out), 0) << loose.out;
     // Stopped early: the solution is written and the exit code says it did not converge.
-    const auto capped = bounce_run(base + " --max-iterations 2");
+    const auto capped = bounce_run("solve --solver hierarchical --max-level 2 --gather none --max-iterations 2 -o " +
+                                   (dir / "capped.vtu").string());
     EXPECT_EQ(capped.exit_code, 3) << capped.err;
     EXPECT_EQ(iterations(capped.out), 2) << capped.out;
-    EXPECT_TRUE(std::filesystem::exists(dir / "h.vtu"));
+    EXPECT_TRUE(std::filesystem::exists(dir / "capped.vtu"));
+    // 0 is the default, as for the patch solvers.
+    const auto zero = bounce_run(base + " --max-iterations 0");
+    EXPECT_EQ(zero.exit_code, 0) << zero.err;
+    EXPECT_EQ(iterations(zero.out), iterations(standard.out)) << zero.out;
     for (const std::string& option :
          std::vector<std::string>{"--max-seconds 5", "--sor 1.2", "--log " + (dir / "log.csv").string(), "--overshoot",
                                   "--cache-mb 10", "--series 5"}) {

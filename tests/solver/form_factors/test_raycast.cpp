@@ -324,7 +324,8 @@ TEST(ShaftCuller, ProvesPolygonsOutsideItsPatchesUnblockedOnlyWhenNothingLiesBet
     // Quarters far from the blocker's corner (x and y both over 0.5 on each plate) see each other past it.
     EXPECT_GE(proved, 1u);
     EXPECT_GE(refused, 1u);
-    // Without the blocker nothing is ever in the way.
+    // Without the blocker nothing is ever in the way (and the plates' planes, which every
+    // vertex lies beside, are not even tested).
     const PatchMesh open_pair(parallel_pair(1, 1, 1), MeshingOptions{.subdivide = false});
     const ShaftCuller empty(open_pair.patches());
     for (const Patch& p : plates.patches())
@@ -332,4 +333,56 @@ TEST(ShaftCuller, ProvesPolygonsOutsideItsPatchesUnblockedOnlyWhenNothingLiesBet
             if (p.surface != q.surface) {
                 EXPECT_TRUE(empty.unblocked(p, q));
             }
+}
+
+// The planes a shaft may cross hold patches of their own: two blocks standing on a floor. An
+// element on block A's front face sees the floor in front of it past nothing (A's own face and
+// the floor it is cut from lie in the planes of the pair and never block), and the floor behind
+// block B only through B.
+TEST(ShaftCuller, ElementsOnABlocksFaceSeeTheFloorUnlessAnotherBlockStandsBetween) {
+    Scene s;
+    s.name = "blocks on a floor";
+    s.materials = {{"m", Rgb::gray(0.5), Rgb()}};
+    s.surfaces.push_back({{{-4, -4, 0}, {8, -4, 0}, {8, 4, 0}, {-4, 4, 0}}, 0, "floor", {"t", 0}});
+    const auto block = [&s](double x0, double x1, const char* name) {
+        const double y0 = -1, y1 = 1, h = 1;
+        s.surfaces.push_back({{{x1, y0, 0}, {x1, y1, 0}, {x1, y1, h}, {x1, y0, h}}, 0, name, {"t", 0}});  // +x
+        s.surfaces.push_back({{{x0, y0, 0}, {x0, y0, h}, {x0, y1, h}, {x0, y1, 0}}, 0, name, {"t", 0}});  // -x
+        s.surfaces.push_back({{{x0, y0, h}, {x1, y0, h}, {x1, y1, h}, {x0, y1, h}}, 0, name, {"t", 0}});  // top
+        s.surfaces.push_back({{{x0, y0, 0}, {x1, y0, 0}, {x1, y0, h}, {x0, y0, h}}, 0, name, {"t", 0}});  // -y
+        s.surfaces.push_back({{{x0, y1, 0}, {x0, y1, h}, {x1, y1, h}, {x1, y1, 0}}, 0, name, {"t", 0}});  // +y
+    };
+    block(0, 1, "A");
+    block(2, 3, "B");
+    const PatchMesh input(s, MeshingOptions{.subdivide = false, .cut_contacts = false});
+    const ShaftCuller culler(input.patches());
+    ASSERT_GT(culler.plane_groups(), 0u);  // the blocks' side planes cut the floor
+    const auto patch = [](std::vector<glm::dvec3> v) {
+        Scene one;
+        one.materials = {{"m", Rgb::gray(0.5), Rgb()}};
+        one.surfaces.push_back({std::move(v), 0, "piece", {"t", 0}});
+        return PatchMesh(one, MeshingOptions{.subdivide = false}).patches().front();
+    };
+    // A quarter of block A's +x face (x = 1), facing the floor between the blocks and beyond.
+    const Patch face = patch({{1, 0, 0.5}, {1, 0.5, 0.5}, {1, 0.5, 1}, {1, 0, 1}});
+    const Patch between = patch({{1.2, -0.5, 0}, {1.8, -0.5, 0}, {1.8, 0.5, 0}, {1.2, 0.5, 0}});
+    const Patch beyond = patch({{3.5, -0.5, 0}, {4.5, -0.5, 0}, {4.5, 0.5, 0}, {3.5, 0.5, 0}});
+    const Patch aside = patch({{1.2, 2.5, 0}, {1.8, 2.5, 0}, {1.8, 3.5, 0}, {1.2, 3.5, 0}});
+    EXPECT_TRUE(culler.unblocked(face, between));
+    EXPECT_TRUE(culler.unblocked(face, aside));
+    EXPECT_FALSE(culler.unblocked(face, beyond));  // block B stands in the way
+    const auto vis = make_visibility("embree", input.patches());
+    SplitMix64 rng{3};
+    for (const Patch* q : {&between, &aside, &beyond}) {
+        std::vector<Visibility::Segment> rays;
+        for (int r = 0; r < 256; ++r)
+            rays.push_back({patch_point(face, rng.uniform(), rng.uniform()) + vis->offset() * face.normal,
+                            patch_point(*q, rng.uniform(), rng.uniform()) + vis->offset() * q->normal});
+        const double open = vis->open_fraction(rays);
+        if (culler.unblocked(face, *q)) {
+            EXPECT_EQ(open, 1.0);
+        } else {
+            EXPECT_LT(open, 1.0);
+        }
+    }
 }

@@ -240,8 +240,28 @@ TEST(HierarchicalPointValues, ShaftTestedLinksAreGatheredWithoutRays) {
         ASSERT_EQ(gather_hierarchical_point_values(sol, elements, counted, res, "vertices"), GatherOutcome::gathered);
         const auto points = vertex_gather_points(elements);
         if (blocker) {
-            // Every vertex of the plane at least traces rays past the blocker's shadow side.
+            // The links across the blocker trace rays, and no vertex is lit through it: the
+            // lamp reflects nothing and the blocker is black, so a vertex of the plane gets
+            // exactly 0.5 E F(x -> the lamp's unhidden part). Where all of the lamp is in view
+            // or none of it, every ray agrees and the gather is exact (a link wrongly marked
+            // unblocked would light the umbra); in the penumbra the rays estimate the share.
             EXPECT_GT(counted.segments.load(), points.size());
+            std::size_t lit = 0, umbra = 0;
+            for (std::size_t v = 0; v < points.size(); ++v) {
+                if (points[v].surface != 0) continue;
+                const glm::dvec3 x = points[v].position;
+                const double F = visible_lamp_factor(x.x, x.y), full = visible_lamp_factor(x.x, x.y, false);
+                const double want = 0.5 * 3.0 * F, got = res.point_radiosity[v].r;
+                if (F >= full * (1 - 1e-12)) {
+                    ASSERT_NEAR(got, want, 5e-4 * want + 1e-12) << "lit vertex " << v;
+                    ++lit;
+                } else if (F <= 0) {
+                    ASSERT_EQ(got, 0.0) << "umbra vertex " << v;
+                    ++umbra;
+                }
+            }
+            EXPECT_GT(lit, 20u);
+            EXPECT_GT(umbra, 5u);
             continue;
         }
         EXPECT_EQ(counted.segments.load(), 0u);
