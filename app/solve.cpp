@@ -53,9 +53,8 @@ struct SolveCommand {
     std::vector<std::string> retired;
     HierarchicalOptions hierarchical;
     bool no_clustering = false;  // hierarchical: refine every pair of patches, no cluster hierarchy
-    // Given, --tolerance and --max-iterations stop the hierarchical iterations too.
+    // Given, --tolerance stops the hierarchical iterations too (its default there is 1e-6).
     const CLI::Option* tolerance = nullptr;
-    const CLI::Option* max_iterations = nullptr;
     // Options of the patch solvers alone: given with --adaptive or hierarchical, refused by name.
     std::vector<std::pair<std::string, const CLI::Option*>> patch_solver_only;
     std::string gather = "vertices";  // point values: final gather at the vertices (point_values.h)
@@ -108,8 +107,8 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         if (s.adaptive) h.power_epsilon = adaptive_power_epsilon(h.power_epsilon);
         h.clustering = !s.no_clustering;
         if (s.tolerance->count() > 0) h.tolerance = s.options.tolerance;
-        // 0, as for the patch solvers, is the default.
-        if (s.max_iterations->count() > 0 && s.options.max_iterations > 0) h.max_iterations = s.options.max_iterations;
+        // 0 (not given, or given), as for the patch solvers, is the default.
+        if (s.options.max_iterations > 0) h.max_iterations = s.options.max_iterations;
         h.form_factors = s.ff;
         h.cancel = &g_interrupted;
         h.progress = [&](const std::string& stage, std::size_t done, std::size_t total) {
@@ -349,10 +348,9 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                                         "largest change of an element's radiosity per iteration, relative to the "
                                         "mean (hierarchical); 1e-3, hierarchical 1e-6")
                            ->check(kPositive);
-    solve->max_iterations =
-        solve_cmd->add_option("--max-shots,--max-iterations", solve->options.max_iterations,
-                              "stop after this many shots or sweeps (default 100 N shots, 10000 sweeps, "
-                              "hierarchical 1000 iterations)");
+    solve_cmd->add_option("--max-shots,--max-iterations", solve->options.max_iterations,
+                          "stop after this many shots or sweeps (default 100 N shots, 10000 sweeps, "
+                          "hierarchical 1000 iterations)");
     auto& only = solve->patch_solver_only;
     only.emplace_back("--max-seconds",
                       solve_cmd->add_option("--max-seconds", solve->options.max_seconds, "stop after this many seconds")

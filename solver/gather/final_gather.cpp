@@ -210,16 +210,16 @@ std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {
     // Where the patches around a vertex fill more than a half-turn (a hole's corner, a
     // notch), the point so moved can lie in none of them: it would leave the surface (over
     // the lamp, behind it). Such a vertex moves towards the centre of one of its own cells.
-    std::vector<std::uint8_t> inside(out.size(), 0);
     for (std::size_t i = 0; i < patches.size(); ++i)
         for (int v : mesh.patch_vertex_indices(i))
-            if (!inside[std::size_t(v)] && covers(patches[i], out[std::size_t(v)].position, 1e-9 * patches[i].area))
-                inside[std::size_t(v)] = 1;
+            if (covers(patches[i], out[std::size_t(v)].position, 1e-9 * patches[i].area))
+                out[std::size_t(v)].cell = int(i);
     for (std::size_t v = 0; v < out.size(); ++v) {
-        if (inside[v] || count[v] == 0) continue;
+        if (out[v].cell >= 0 || count[v] == 0) continue;
         const auto q = om.point(OpenMesh::VertexHandle(int(v)));
         const glm::dvec3 x(q[0], q[1], q[2]);
         out[v].position = x + kNudge * (patches[last_patch[v]].centre - x);
+        out[v].cell = int(last_patch[v]);
     }
     return out;
 }
@@ -227,7 +227,8 @@ std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {
 std::vector<GatherPoint> centre_gather_points(const std::vector<Patch>& patches) {
     std::vector<GatherPoint> out;
     out.reserve(patches.size());
-    for (const Patch& p : patches) out.push_back({p.centre, p.normal, p.surface, p.reflectance, p.emission});
+    for (const Patch& p : patches)
+        out.push_back({p.centre, p.normal, p.surface, p.reflectance, p.emission, int(out.size())});
     return out;
 }
 

@@ -25,6 +25,7 @@ struct GatherPoint {
     glm::dvec3 normal{0.0};  // unit
     int surface = -1;        // patches of the same (planar) surface are never gathered from
     Rgb reflectance, emission;
+    int cell = -1;  // the patch it lies in (vertex_gather_points: the last around its vertex that covers it)
 };
 
 struct GatherOptions {

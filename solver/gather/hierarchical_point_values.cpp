@@ -62,34 +62,37 @@ std::vector<std::size_t> path_link_counts(const HierarchicalSolution& sol, const
     return out;
 }
 
-/// Each vertex's list: that of the element around it its gather point lies in (the points are
-/// moved off the vertices, towards the centres around them: vertex_gather_points), else of
-/// the last element around it. A source's mark (LinkSources) holds for the points of the
-/// list's element only: a point in a neighbour across a seam, where a wall may stand on the
-/// floor, could see less of the source.
-std::vector<std::uint32_t> vertex_lists(const PatchMesh& elements, std::span<const GatherPoint> points) {
-    constexpr auto none = std::numeric_limits<std::uint32_t>::max();
-    const auto& P = elements.patches();
-    std::vector<std::uint32_t> out(elements.mesh().n_vertices(), none), last(out.size(), 0);
-    for (std::size_t k = 0; k < elements.size(); ++k)
-        for (const int v : elements.patch_vertex_indices(k)) {
-            last[std::size_t(v)] = std::uint32_t(k);
-            if (covers(P[k], points[std::size_t(v)].position, 1e-9 * P[k].area)) out[std::size_t(v)] = std::uint32_t(k);
-        }
-    for (std::size_t v = 0; v < out.size(); ++v)
-        if (out[v] == none) out[v] = last[v];
+/// Each vertex's list: that of the element its gather point lies in (GatherPoint::cell; the
+/// points are moved off the vertices, towards the centres around them). A source's mark
+/// (LinkSources) holds for the points of the list's element only: a point in a neighbour across
+/// a seam, where a wall may stand on the floor, could see less of the source.
+std::vector<std::uint32_t> vertex_lists(std::span<const GatherPoint> points) {
+    std::vector<std::uint32_t> out;
+    out.reserve(points.size());
+    for (const GatherPoint& x : points) out.push_back(std::uint32_t(std::max(x.cell, 0)));
     return out;
 }
 
-/// Gather points x sources: every vertex's list, and with a power epsilon every leaf's centre
-/// too (gathered first).
-double gather_pairs(const HierarchicalSolution& sol, const std::vector<std::size_t>& counts,
-                    const std::vector<std::uint32_t>& vertex_list) {
+/// What both the gather and its cost estimate start from: the links per node, the vertices'
+/// gather points and lists, and the gather points x sources it would meet (every vertex's
+/// list, and with a power epsilon every leaf's centre too, gathered first).
+struct GatherPlan {
+    NodeLinks links;
+    std::vector<GatherPoint> vertex_points;
+    std::vector<std::uint32_t> vertex_list;
     double pairs = 0.0;
-    for (const std::uint32_t k : vertex_list) pairs += double(counts[k]);
+};
+
+GatherPlan gather_plan(const HierarchicalSolution& sol, const PatchMesh& elements) {
+    if (elements.size() != sol.leaves.size())
+        throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
+    GatherPlan plan{node_links(sol), vertex_gather_points(elements), {}, 0.0};
+    plan.vertex_list = vertex_lists(plan.vertex_points);
+    const std::vector<std::size_t> counts = path_link_counts(sol, plan.links);
+    for (const std::uint32_t k : plan.vertex_list) plan.pairs += double(counts[k]);
     if (sol.power_epsilon > 0)
-        for (const std::size_t c : counts) pairs += double(c);
-    return pairs;
+        for (const std::size_t c : counts) plan.pairs += double(c);
+    return plan;
 }
 
 /// Per leaf (in solution.leaves order), the nodes its element links reach along its path to
@@ -198,11 +201,7 @@ std::vector<Rgb> regathered_radiosity(const HierarchicalSolution& sol, const std
 }  // namespace
 
 double hierarchical_gather_pairs(const HierarchicalSolution& solution, const PatchMesh& elements) {
-    if (elements.size() != solution.leaves.size())
-        throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
-    const NodeLinks links = node_links(solution);
-    return gather_pairs(solution, path_link_counts(solution, links),
-                        vertex_lists(elements, vertex_gather_points(elements)));
+    return gather_plan(solution, elements).pairs;
 }
 
 GatherOutcome gather_hierarchical_point_values(
@@ -211,14 +210,9 @@ GatherOutcome gather_hierarchical_point_values(
     const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
     check_gather_mode(mode);
     if (mode == "none") return GatherOutcome::not_asked;
-    if (elements.size() != solution.leaves.size())
-        throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
-    const NodeLinks links = node_links(solution);
-    const std::vector<GatherPoint> vertex_points = vertex_gather_points(elements);
-    const std::vector<std::uint32_t> vertex_list = vertex_lists(elements, vertex_points);
-    if (gather_pairs(solution, path_link_counts(solution, links), vertex_list) > kMaxGatherPairs)
-        return GatherOutcome::over_budget;
-    const LinkSources sources = link_sources(solution, links, cancel);
+    const GatherPlan plan = gather_plan(solution, elements);
+    if (plan.pairs > kMaxGatherPairs) return GatherOutcome::over_budget;
+    const LinkSources sources = link_sources(solution, plan.links, cancel);
     if (cancel && cancel->load()) return GatherOutcome::interrupted;
     const GatherOptions options = point_value_options();
     const auto& nodes = solution.tree.geometry();
@@ -226,7 +220,7 @@ GatherOutcome gather_hierarchical_point_values(
     return run_point_gather(
         mode, res, cancel, progress,
         [&](const auto& report) {
-            GatherSources at{vertex_list, sources.offsets, sources.nodes, solution.cluster_irradiance};
+            GatherSources at{plan.vertex_list, sources.offsets, sources.nodes, solution.cluster_irradiance};
             at.unblocked = sources.unblocked;
             std::vector<Rgb> regathered;
             if (solution.power_epsilon > 0) {
@@ -244,7 +238,7 @@ GatherOutcome gather_hierarchical_point_values(
             at.first_child = first_child;
             at.spread = spread;
             at.descend = kDescendShare;
-            res.point_radiosity = final_gather(nodes, B, visibility, vertex_points, at, options, cancel, report);
+            res.point_radiosity = final_gather(nodes, B, visibility, plan.vertex_points, at, options, cancel, report);
         },
         [&](const auto& report) {
             // With a power epsilon the same gather is already done.
