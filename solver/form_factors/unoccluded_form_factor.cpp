@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
 #include "solver/form_factors/polygon_form_factor.h"
@@ -20,16 +21,20 @@ GaussPointCache::GaussPointCache(const std::vector<Patch>& patches, double toler
         m_gap_needed[std::size_t(n)] = 0.5 * (rho - 1.0 / rho);
     }
     // Gauss points of orders 1..kCachedOrders per patch, end to end: far pairs need only these.
-    m_points.reserve(patches.size() * kCachedPoints);
-    m_radius.reserve(patches.size());
-    std::vector<AreaSample> q;
-    for (const Patch& p : patches) {
-        m_radius.push_back(circumradius(p));
-        for (int n = 1; n <= kCachedOrders; ++n) {
-            patch_quadrature(p, n, q);
-            m_points.insert(m_points.end(), q.begin(), q.end());
+    // In parallel: a hierarchy's gather builds one over every node of its tree.
+    m_points.resize(patches.size() * kCachedPoints);
+    m_radius.resize(patches.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, patches.size(), 1024), [&](const auto& r) {
+        std::vector<AreaSample> q;
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            m_radius[k] = circumradius(patches[k]);
+            auto at = m_points.begin() + std::ptrdiff_t(k * kCachedPoints);
+            for (int n = 1; n <= kCachedOrders; ++n) {
+                patch_quadrature(patches[k], n, q);
+                at = std::copy(q.begin(), q.end(), at);
+            }
         }
-    }
+    });
 }
 
 int GaussPointCache::order(double gap, double radius, int max_order) const {

@@ -79,15 +79,25 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
         kernel.clear();
         const glm::dvec3 from = x.position + lift * x.normal;
         const std::size_t list = sources ? sources->list[i] : 0;
-        const std::size_t count = sources ? sources->offsets[list + 1] - sources->offsets[list] : patches.size();
         // Sources still to take, listed or children, and whether a shaft test proved them unblocked.
         thread_local std::vector<std::pair<std::size_t, bool>> pending;
         pending.clear();
         const bool may_descend = sources && sources->descend > 0;
         const bool marked = sources && !sources->unblocked.empty();
-        for (std::size_t s = 0; s < count; ++s) {
-            const std::size_t entry = sources ? sources->offsets[list] + s : s;
-            pending.push_back({sources ? sources->patches[entry] : s, marked && sources->unblocked[entry]});
+        const bool chained = sources && !sources->list_parent.empty();
+        // The point's list, then (chained) the list's parent's, and so on up.
+        std::int64_t at = std::int64_t(list);
+        std::size_t entry = sources ? sources->offsets[list] : 0;
+        std::size_t end = sources ? sources->offsets[list + 1] : patches.size();
+        for (;;) {
+            if (entry == end) {
+                if (!chained || (at = sources->list_parent[std::size_t(at)]) < 0) break;
+                entry = sources->offsets[std::size_t(at)];
+                end = sources->offsets[std::size_t(at) + 1];
+                continue;
+            }
+            const std::size_t e = entry++;
+            pending.push_back({sources ? sources->patches[e] : e, marked && sources->unblocked[e]});
             while (!pending.empty()) {
                 const auto [j, unblocked] = pending.back();
                 pending.pop_back();
@@ -169,6 +179,8 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
                               const std::function<void(std::size_t, std::size_t)>& progress) {
     if (sources.list.size() != points.size())
         throw std::invalid_argument("final gather: a source list is needed for every point");
+    if (!sources.list_parent.empty() && sources.list_parent.size() + 1 != sources.offsets.size())
+        throw std::invalid_argument("final gather: a chained list's parent is needed for every list");
     if (!sources.unblocked.empty() && sources.unblocked.size() != sources.patches.size())
         throw std::invalid_argument("final gather: the unblocked marks must be one per listed source");
     if (sources.descend > 0 &&

@@ -66,6 +66,11 @@ struct GatherSources {
     std::span<const std::size_t> offsets;    // per list, and one past the last
     std::span<const std::uint32_t> patches;  // indices into the patches gathered from
     std::span<const Rgb> irradiance;         // per list, or empty
+    /// Optional, per list: the list whose sources follow this one's for the same point (-1:
+    /// none). A hierarchy's lists are its nodes' links, and a point gathers over those of its
+    /// element and every ancestor, so no list is stored per element. `irradiance` is still
+    /// taken from the point's own list only.
+    std::span<const std::int64_t> list_parent = {};
     /// Optional, a hierarchy's (`descend` > 0): per patch, the first of its four children
     /// (consecutive, tiling it) or -1, and the spread (max - min luminance) of the radiosity of
     /// the leaves under it. A source whose min(1, r / d) spread exceeds `descend` times its own

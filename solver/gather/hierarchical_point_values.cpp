@@ -49,27 +49,25 @@ NodeLinks node_links(const HierarchicalSolution& sol) {
     return out;
 }
 
-/// Per leaf, the number of links along its path to the root: the length of its source list.
+/// Per node, the number of links along its path to the root: the length of a point's source
+/// list there (parents come before their children in the node order).
 std::vector<std::size_t> path_link_counts(const HierarchicalSolution& sol, const NodeLinks& links) {
-    std::vector<std::size_t> out;
-    out.reserve(sol.leaves.size());
-    for (const std::uint32_t leaf : sol.leaves) {
-        std::size_t c = 0;
-        for (std::int64_t a = leaf; a >= 0; a = sol.tree.node(std::size_t(a)).parent)
-            c += links.first[std::size_t(a) + 1] - links.first[std::size_t(a)];
-        out.push_back(c);
+    std::vector<std::size_t> out(sol.tree.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const std::int64_t parent = sol.tree.node(i).parent;
+        out[i] = links.first[i + 1] - links.first[i] + (parent >= 0 ? out[std::size_t(parent)] : 0);
     }
     return out;
 }
 
-/// Each vertex's list: that of the element its gather point lies in (GatherPoint::cell; the
-/// points are moved off the vertices, towards the centres around them). A source's mark
+/// Each vertex's list: the leaf node of the element its gather point lies in (GatherPoint::cell;
+/// the points are moved off the vertices, towards the centres around them). A source's mark
 /// (LinkSources) holds for the points of the list's element only: a point in a neighbour across
 /// a seam, where a wall may stand on the floor, could see less of the source.
-std::vector<std::uint32_t> vertex_lists(std::span<const GatherPoint> points) {
+std::vector<std::uint32_t> vertex_lists(const HierarchicalSolution& sol, std::span<const GatherPoint> points) {
     std::vector<std::uint32_t> out;
     out.reserve(points.size());
-    for (const GatherPoint& x : points) out.push_back(std::uint32_t(std::max(x.cell, 0)));
+    for (const GatherPoint& x : points) out.push_back(sol.leaves[std::size_t(std::max(x.cell, 0))]);
     return out;
 }
 
@@ -79,7 +77,7 @@ std::vector<std::uint32_t> vertex_lists(std::span<const GatherPoint> points) {
 struct GatherPlan {
     NodeLinks links;
     std::vector<GatherPoint> vertex_points;
-    std::vector<std::uint32_t> vertex_list;
+    std::vector<std::uint32_t> vertex_list;  // per vertex: a leaf node
     double pairs = 0.0;
 };
 
@@ -87,32 +85,41 @@ GatherPlan gather_plan(const HierarchicalSolution& sol, const PatchMesh& element
     if (elements.size() != sol.leaves.size())
         throw std::invalid_argument("hierarchical gather: the elements are not the solution's leaves");
     GatherPlan plan{node_links(sol), vertex_gather_points(elements), {}, 0.0};
-    plan.vertex_list = vertex_lists(plan.vertex_points);
-    const std::vector<std::size_t> counts = path_link_counts(sol, plan.links);
-    for (const std::uint32_t k : plan.vertex_list) plan.pairs += double(counts[k]);
+    plan.vertex_list = vertex_lists(sol, plan.vertex_points);
+    const std::vector<std::size_t> counts = path_link_counts(sol, plan.links);  // per node
+    for (const std::uint32_t leaf : plan.vertex_list) plan.pairs += double(counts[leaf]);
     if (sol.power_epsilon > 0)
-        for (const std::size_t c : counts) plan.pairs += double(c);
+        for (const std::uint32_t leaf : sol.leaves) plan.pairs += double(counts[leaf]);
     return plan;
 }
 
-/// Per leaf (in solution.leaves order), the nodes its element links reach along its path to
-/// the root, as GatherSources lists, with each one's mark: a shaft test over the input
-/// patches (the scene's blockers) found nothing between the two ends of the link, so every
-/// point of the leaf sees all of the source. On the Cornell box (power epsilon 3e-6) three
-/// links in four are so marked; the gather traces 4.2 million rays instead of 9.9 million and
-/// takes a third less time (0.87 -> 0.57 s; 1.79 -> 1.17 s at 1e-6; medians of three), at the
-/// same error (five gather seeds: 0.68% RMS off the 0.1% probes either way).
+/// The gather's sources: every node's row of element links (NodeLinks), chained to its
+/// parent's (GatherSources::list_parent), so a point on a leaf gathers over the links of the
+/// leaf and of every ancestor without a list stored per leaf; each entry with its mark: a shaft
+/// test over the input patches (the scene's blockers) found nothing between the two ends of
+/// the link, so every point of the node sees all of the source. On the Cornell box (power
+/// epsilon 3e-6) three links in four are so marked; the gather traces 4.2 million rays instead
+/// of 9.9 million and takes a third less time (0.87 -> 0.57 s; 1.79 -> 1.17 s at 1e-6; medians
+/// of three), at the same error (five gather seeds: 0.68% RMS off the 0.1% probes either way).
 struct LinkSources {
-    std::vector<std::size_t> offsets;
-    std::vector<std::uint32_t> nodes;
-    std::vector<std::uint8_t> unblocked;  // per entry of nodes
+    std::vector<std::uint8_t> unblocked;  // per entry of NodeLinks::other
+    std::vector<std::int64_t> parent;     // per node
+    std::vector<Rgb> irradiance;          // per node: a leaf's cluster irradiance, 0 elsewhere
+    /// The sources of points on `list`'s nodes (leaves), from `links`.
+    GatherSources on(std::span<const std::uint32_t> list, const NodeLinks& links) const {
+        GatherSources at{list, links.first, links.other, irradiance};
+        at.unblocked = unblocked;
+        at.list_parent = parent;
+        return at;
+    }
 };
 
 /// A shaft test that proves a link unblocked spares every gather point under either end the
-/// rays to the other (GatherOptions: ceil(64 F), 1 to 16, 16 to an emitter); it is made when
-/// those rays outweigh the scene's plane groups (ShaftCuller::kPlaneTestsPerRay). The Cornell
-/// box has 11 groups and every link is tested (69 ms for 272k links at power epsilon 3e-6); the
-/// 10k office has 3585, where testing every link cost 24 s more than it spared (its
+/// rays to the other (GatherOptions: ceil(64 F), 1 to 16, 16 to an emitter). Refinement has
+/// tested the links of scenes of few planes (HierarchicalLink::shaft: on the Cornell box every
+/// pair it split or linked, so a pair inherits its ancestors' proof); an untested link is
+/// tested here when those rays outweigh the scene's plane groups (ShaftCuller::kPlaneTestsPerRay).
+/// The 10k office has 3585 groups, where testing every link cost 24 s more than it spared (its
 /// hierarchical solve at 3e-6: 58 s -> 80 s), and the rule takes it to 55 s.
 LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links, const std::atomic<bool>* cancel) {
     const ElementTree& tree = sol.tree;
@@ -132,22 +139,23 @@ LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links
     std::vector<std::uint8_t> link_unblocked(sol.links.size(), 0);
     tbb::parallel_for(std::size_t(0), sol.links.size(), [&](std::size_t k) {
         const auto& l = sol.links[k];
-        // Links whose rays were all blocked are not tested: their shaft holds a blocker.
-        if (!l.between_elements() || l.visible == 0.0f || (cancel && cancel->load(std::memory_order_relaxed))) return;
+        // Refinement's test stands (a culler over the same patches); links whose rays were all
+        // blocked are not tested: their shaft holds a blocker.
+        if (l.shaft == HierarchicalLink::kShaftOpen) link_unblocked[k] = 1;
+        if (!l.between_elements() || l.shaft != HierarchicalLink::kShaftUntested || l.visible == 0.0f ||
+            (cancel && cancel->load(std::memory_order_relaxed)))
+            return;
         const double fba = double(l.fab) * G[l.a].area / G[l.b].area;
         const double spared = leaves_under[l.a] * rays_to(l.a, l.b, l.fab) + leaves_under[l.b] * rays_to(l.b, l.a, fba);
         if (spared * ShaftCuller::kPlaneTestsPerRay >= planes) link_unblocked[k] = culler.unblocked(G[l.a], G[l.b]);
     });
     LinkSources out;
-    out.offsets.push_back(0);
-    for (const std::uint32_t leaf : sol.leaves) {
-        for (std::int64_t a = leaf; a >= 0; a = tree.node(std::size_t(a)).parent)
-            for (std::size_t e = links.first[std::size_t(a)]; e < links.first[std::size_t(a) + 1]; ++e) {
-                out.nodes.push_back(links.other[e]);
-                out.unblocked.push_back(link_unblocked[links.link[e]]);
-            }
-        out.offsets.push_back(out.nodes.size());
-    }
+    out.unblocked.resize(links.link.size());
+    for (std::size_t e = 0; e < links.link.size(); ++e) out.unblocked[e] = link_unblocked[links.link[e]];
+    out.parent.resize(tree.size());
+    for (std::size_t i = 0; i < tree.size(); ++i) out.parent[i] = tree.node(i).parent;
+    out.irradiance.resize(tree.size());
+    for (std::size_t k = 0; k < sol.leaves.size(); ++k) out.irradiance[sol.leaves[k]] = sol.cluster_irradiance[k];
     return out;
 }
 
@@ -163,16 +171,13 @@ constexpr double kDescendShare = 0.1;
 /// Every leaf's value gathered at its centre through its own links (the leaf's list of
 /// `sources`) from the solution's node radiosity: mode "centres", and the first step of the
 /// re-gather below.
-std::vector<Rgb> centre_values(const HierarchicalSolution& sol, const PatchMesh& elements, const LinkSources& sources,
-                               const Visibility& visibility, const GatherOptions& options,
+std::vector<Rgb> centre_values(const HierarchicalSolution& sol, const PatchMesh& elements, const NodeLinks& links,
+                               const LinkSources& sources, const Visibility& visibility, const GatherOptions& options,
                                const std::atomic<bool>* cancel,
                                const std::function<void(std::size_t, std::size_t)>& progress) {
-    std::vector<std::uint32_t> own(elements.size());  // a centre gathers through its own element
-    for (std::size_t k = 0; k < own.size(); ++k) own[k] = std::uint32_t(k);
-    GatherSources at{own, sources.offsets, sources.nodes, sol.cluster_irradiance};
-    at.unblocked = sources.unblocked;
+    // A centre gathers through its own element (the elements are the leaves, in order).
     return final_gather(sol.tree.geometry(), sol.node_radiosity, visibility, centre_gather_points(elements.patches()),
-                        at, options, cancel, progress);
+                        sources.on(sol.leaves, links), options, cancel, progress);
 }
 
 /// The node radiosity with every leaf's replaced by its re-gathered centre value and every
@@ -220,11 +225,10 @@ GatherOutcome gather_hierarchical_point_values(
     return run_point_gather(
         mode, res, cancel, progress,
         [&](const auto& report) {
-            GatherSources at{plan.vertex_list, sources.offsets, sources.nodes, solution.cluster_irradiance};
-            at.unblocked = sources.unblocked;
+            GatherSources at = sources.on(plan.vertex_list, plan.links);
             std::vector<Rgb> regathered;
             if (solution.power_epsilon > 0) {
-                centres = centre_values(solution, elements, sources, visibility, options, cancel,
+                centres = centre_values(solution, elements, plan.links, sources, visibility, options, cancel,
                                         [&progress](std::size_t d, std::size_t t) {
                                             if (progress) progress("gathering: element centres", d, t);
                                         });
@@ -243,7 +247,7 @@ GatherOutcome gather_hierarchical_point_values(
         [&](const auto& report) {
             // With a power epsilon the same gather is already done.
             if (centres.empty())
-                centres = centre_values(solution, elements, sources, visibility, options, cancel, report);
+                centres = centre_values(solution, elements, plan.links, sources, visibility, options, cancel, report);
             res.gathered_centres = std::move(centres);
         });
 }

@@ -231,3 +231,87 @@ TEST(FinalGather, NearSourceWhoseChildrenDifferIsGatheredThroughTheChildren) {
     EXPECT_NEAR(part[3].g, from(1, 3), 1e-9 * from(1, 3));
     for (std::size_t i = 0; i < at.size(); ++i) EXPECT_NEAR(whole[i].g, from(1, i), 1e-9 * from(1, i));
 }
+
+// A hierarchy's points gather over the links of their element and of every ancestor: chained
+// lists (GatherSources::list_parent) must give what one flat list per point, the rows laid one
+// after another, gives, to the bit (the same sources in the same order, the same rays). Under a
+// lamp cut into a tree, with a blocker between, so rays and their streams count.
+TEST(FinalGather, ChainedListsGatherAsTheirRowsLaidEndToEnd) {
+    Scene s = lamp_over_plane();  // the plane (rho 0.5) under a unit square lamp at z = 1
+    s.surfaces.push_back(
+        {{{0.2, -0.5, 0.5}, {1.2, -0.5, 0.5}, {1.2, 1.5, 0.5}, {0.2, 1.5, 0.5}}, 2, "blocker", {"test", 0}});
+    MeshingOptions o;
+    o.subdivide = false;
+    const PatchMesh m(s, o);
+    ElementTree tree(m.patches());
+    // Lists are nodes: the lamp's and blocker's roots, and children that hold rows of their own.
+    std::size_t lamp = 0, plane = 0;
+    for (std::size_t r = 0; r < m.size(); ++r) {
+        if (m.patches()[r].emission.max() > 0) lamp = r;
+        if (m.patches()[r].area > m.patches()[plane].area) plane = r;
+    }
+    const std::size_t quarter = tree.split(plane), sixteenth = tree.split(quarter + 3);
+    const std::size_t lamp_quarter = tree.split(lamp);
+    const auto& nodes = tree.geometry();
+    std::vector<Rgb> B(nodes.size(), Rgb::gray(0.3));
+    for (std::size_t c = 0; c < 4; ++c) B[lamp_quarter + c] = Rgb::gray(1.0 + double(c));
+    // Rows: the plane's root sees the lamp whole, the quarter 3 sees two lamp quarters, its
+    // sixteenths the other two and the blocker.
+    std::vector<std::vector<std::uint32_t>> rows(nodes.size());
+    rows[plane] = {std::uint32_t(lamp)};
+    rows[quarter + 3] = {std::uint32_t(lamp_quarter), std::uint32_t(lamp_quarter + 1)};
+    for (std::size_t c = 0; c < 4; ++c) {
+        rows[sixteenth + c] = {std::uint32_t(lamp_quarter + 2), std::uint32_t(lamp_quarter + 3)};
+        for (std::size_t r = 0; r < m.size(); ++r)
+            if (r != plane && r != lamp) rows[sixteenth + c].push_back(std::uint32_t(r));
+    }
+    std::vector<std::size_t> offsets{0};
+    std::vector<std::uint32_t> entries;
+    std::vector<std::int64_t> parent(nodes.size());
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        entries.insert(entries.end(), rows[i].begin(), rows[i].end());
+        offsets.push_back(entries.size());
+        parent[i] = tree.node(i).parent;
+    }
+    // Points on the sixteenths and on the other quarters, each on its own leaf.
+    std::vector<GatherPoint> points;
+    std::vector<std::uint32_t> leaf;
+    for (const std::size_t first : {sixteenth, quarter})
+        for (std::size_t c = 0; c < 4; ++c) {
+            const std::size_t node = first + c;
+            if (!tree.node(node).leaf()) continue;
+            for (const double t : {0.25, 0.5, 0.75}) {
+                const Patch& p = nodes[node];
+                points.push_back(
+                    {p.centre + t * (p.vertices[0] - p.centre), p.normal, p.surface, Rgb::gray(0.5), Rgb()});
+                leaf.push_back(std::uint32_t(node));
+            }
+        }
+    ASSERT_EQ(points.size(), 21u);
+    const auto vis = make_visibility("embree", m.patches());
+    GatherSources chained{leaf, offsets, entries, {}};
+    chained.list_parent = parent;
+    const std::vector<Rgb> by_chain = final_gather(nodes, B, *vis, points, chained);
+    // The same sources laid out flat, a list per point.
+    std::vector<std::size_t> flat_offsets{0};
+    std::vector<std::uint32_t> flat, own;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        for (std::int64_t a = leaf[k]; a >= 0; a = parent[std::size_t(a)])
+            flat.insert(flat.end(), rows[std::size_t(a)].begin(), rows[std::size_t(a)].end());
+        flat_offsets.push_back(flat.size());
+        own.push_back(std::uint32_t(k));
+    }
+    const std::vector<Rgb> by_list = final_gather(nodes, B, *vis, points, GatherSources{own, flat_offsets, flat, {}});
+    std::size_t lit = 0;
+    bool differ = false;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        EXPECT_EQ(by_chain[k].g, by_list[k].g) << "point " << k;
+        lit += by_chain[k].g > 0.0;
+        differ |= by_chain[k].g != by_chain[k - k % 3].g;
+    }
+    EXPECT_GE(lit, 15u);  // all but one leaf in the blocker's umbra
+    EXPECT_TRUE(differ);  // the points of a leaf differ: the sums are not trivially alike
+    // A parent list for every list, or none.
+    chained.list_parent = std::span<const std::int64_t>(parent).first(parent.size() - 1);
+    EXPECT_THROW(final_gather(nodes, B, *vis, points, chained), std::invalid_argument);
+}
