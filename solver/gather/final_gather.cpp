@@ -2,6 +2,7 @@
 #include "solver/gather/final_gather.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -49,6 +50,14 @@ private:
     std::optional<GaussPointCache> m_gauss;  // with a positive tolerance only
 };
 
+/// The side of the square grid of about `want` rays: round(sqrt(want)), from a table for the
+/// counts the options usually ask for (a call to lround per source was a twentieth of a gather).
+int grid_side(int want) {
+    static constexpr std::array<int, 17> kSide = {1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 3, 3, 4, 4, 4, 4};
+    if (want >= 0 && want < int(kSide.size())) return kSide[std::size_t(want)];
+    return std::max(1, int(std::lround(std::sqrt(double(want)))));
+}
+
 /// Both final_gathers: over every patch (sources null) or over each point's list.
 std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity, const Visibility& visibility,
                         std::span<const GatherPoint> points, const GatherSources* sources, const GatherOptions& options,
@@ -79,12 +88,53 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
         kernel.clear();
         const glm::dvec3 from = x.position + lift * x.normal;
         const std::size_t list = sources ? sources->list[i] : 0;
-        // Sources still to take, listed or children, and whether a shaft test proved them unblocked.
+        // Children still to take (gone down to from a listed source, GatherSources::descend),
+        // and whether a shaft test proved them unblocked.
         thread_local std::vector<std::pair<std::size_t, bool>> pending;
         pending.clear();
         const bool may_descend = sources && sources->descend > 0;
         const bool marked = sources && !sources->unblocked.empty();
         const bool chained = sources && !sources->list_parent.empty();
+        // One source: its term (and rays), or its children onto `pending`.
+        const auto take = [&](std::size_t j, bool unblocked) {
+            const Patch& p = patches[j];
+            if (p.surface == x.surface || radiosity[j].max() <= 0) return;
+            if (p.height(x.position) <= 0) return;  // x behind p: p sends nothing its way
+            if (may_descend && sources->first_child[j] >= 0) {
+                double r2 = 0;
+                for (int v = 0; v < p.vertex_count; ++v) {
+                    const glm::dvec3 e = p.vertices[v] - p.centre;
+                    r2 = std::max(r2, glm::dot(e, e));
+                }
+                const glm::dvec3 d = p.centre - x.position;
+                const double ratio = std::min(1.0, std::sqrt(r2 / glm::dot(d, d)));
+                if (ratio * sources->spread[j] > sources->descend * radiosity[j].luminance()) {
+                    for (int c = 0; c < 4; ++c)
+                        pending.push_back({std::size_t(sources->first_child[j] + c), unblocked});
+                    return;
+                }
+            }
+            const double f0 = factor(x.position, x.normal, j);
+            if (!(f0 > 0)) return;
+            if (unblocked) {
+                terms.push_back({j, segments.size(), 0, f0});
+                return;
+            }
+            // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
+            int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
+            if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
+            const int side = grid_side(want);
+            terms.push_back({j, segments.size(), std::size_t(side * side), f0});
+            for (int a = 0; a < side; ++a)
+                for (int b = 0; b < side; ++b) {
+                    const glm::dvec3 y = patch_point(p, (a + rng.uniform()) / side, (b + rng.uniform()) / side);
+                    const glm::dvec3 d = y - x.position;
+                    const double r2 = glm::dot(d, d);
+                    kernel.push_back(std::max(0.0, glm::dot(x.normal, d)) * std::max(0.0, -glm::dot(p.normal, d)) /
+                                     (r2 * r2));
+                    segments.push_back({from, y + lift * p.normal});
+                }
+        };
         // The point's list, then (chained) the list's parent's, and so on up.
         std::int64_t at = std::int64_t(list);
         std::size_t entry = sources ? sources->offsets[list] : 0;
@@ -97,47 +147,17 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
                 continue;
             }
             const std::size_t e = entry++;
-            pending.push_back({sources ? sources->patches[e] : e, marked && sources->unblocked[e]});
-            while (!pending.empty()) {
+            // The sources are scattered over the tree's nodes: fetch the next one's patch while
+            // this one is taken (its first touch was the gather's largest stall).
+            if (sources && entry < end) {
+                const char* next = reinterpret_cast<const char*>(&patches[sources->patches[entry]]);
+                for (std::size_t line = 0; line < sizeof(Patch); line += 64) __builtin_prefetch(next + line);
+            }
+            take(sources ? sources->patches[e] : e, marked && sources->unblocked[e]);
+            while (!pending.empty()) {  // children last in, first out, each before its siblings
                 const auto [j, unblocked] = pending.back();
                 pending.pop_back();
-                const Patch& p = patches[j];
-                if (p.surface == x.surface || radiosity[j].max() <= 0) continue;
-                if (p.height(x.position) <= 0) continue;  // x behind p: p sends nothing its way
-                if (may_descend && sources->first_child[j] >= 0) {
-                    double r2 = 0;
-                    for (int v = 0; v < p.vertex_count; ++v) {
-                        const glm::dvec3 e = p.vertices[v] - p.centre;
-                        r2 = std::max(r2, glm::dot(e, e));
-                    }
-                    const glm::dvec3 d = p.centre - x.position;
-                    const double ratio = std::min(1.0, std::sqrt(r2 / glm::dot(d, d)));
-                    if (ratio * sources->spread[j] > sources->descend * radiosity[j].luminance()) {
-                        for (int c = 0; c < 4; ++c)
-                            pending.push_back({std::size_t(sources->first_child[j] + c), unblocked});
-                        continue;
-                    }
-                }
-                const double f0 = factor(x.position, x.normal, j);
-                if (!(f0 > 0)) continue;
-                if (unblocked) {
-                    terms.push_back({j, segments.size(), 0, f0});
-                    continue;
-                }
-                // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
-                int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
-                if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
-                const int side = std::max(1, int(std::lround(std::sqrt(double(want)))));
-                terms.push_back({j, segments.size(), std::size_t(side * side), f0});
-                for (int a = 0; a < side; ++a)
-                    for (int b = 0; b < side; ++b) {
-                        const glm::dvec3 y = patch_point(p, (a + rng.uniform()) / side, (b + rng.uniform()) / side);
-                        const glm::dvec3 d = y - x.position;
-                        const double r2 = glm::dot(d, d);
-                        kernel.push_back(std::max(0.0, glm::dot(x.normal, d)) * std::max(0.0, -glm::dot(p.normal, d)) /
-                                         (r2 * r2));
-                        segments.push_back({from, y + lift * p.normal});
-                    }
+                take(j, unblocked);
             }
         }
         blocked.resize(segments.size());
