@@ -220,21 +220,31 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
     std::vector<Rgb> b(n + nc), h(n + nc), gathered(n + nc), next(n + nc);
     std::copy_n(B.begin(), std::min(B.size(), n), b.begin());  // one per node: the refiner gave new ones their parent's
     for (std::size_t c = 0; c < nc && c < Bc.size(); ++c) b[n + c] = Bc[c];
-    std::vector<double> fba(links.size());
-    for (std::size_t k = 0; k < links.size(); ++k) fba[k] = double(links[k].fab) * area(links[k].a) / area(links[k].b);
-    // Per receiving slot, the links it gathers over: 2 k for link k's a end, 2 k + 1 for its b end.
+    const bool oriented = options.oriented_clusters && nc > 0;
+    // Per receiving slot, what it gathers over each of its links (in link order): the other
+    // end's slot and the form factor towards it, laid out once so that every iteration reads
+    // them in sequence (links with no transfer left out).
+    struct Incoming {
+        std::uint32_t src;
+        bool clustered;  // a cluster at either end (oriented clusters need the link's direction)
+        double F;
+    };
     std::vector<std::size_t> incoming_first(n + nc + 1, 0);
-    for (const Link& l : links) {
-        ++incoming_first[slot(l.a) + 1];
-        ++incoming_first[slot(l.b) + 1];
-    }
+    for (const Link& l : links)
+        if (l.fab != 0.0f) {
+            ++incoming_first[slot(l.a) + 1];
+            ++incoming_first[slot(l.b) + 1];
+        }
     for (std::size_t r = 0; r < n + nc; ++r) incoming_first[r + 1] += incoming_first[r];
-    std::vector<std::uint64_t> incoming(incoming_first[n + nc]);
+    std::vector<Incoming> incoming(incoming_first[n + nc]);
     {
         std::vector<std::size_t> fill(incoming_first.begin(), incoming_first.end() - 1);
-        for (std::size_t k = 0; k < links.size(); ++k) {
-            incoming[fill[slot(links[k].a)]++] = 2 * std::uint64_t(k);
-            incoming[fill[slot(links[k].b)]++] = 2 * std::uint64_t(k) + 1;
+        for (const Link& l : links) {
+            if (l.fab == 0.0f) continue;
+            const std::size_t sa = slot(l.a), sb = slot(l.b);
+            const bool clustered = oriented && (sa >= n || sb >= n);
+            incoming[fill[sa]++] = {std::uint32_t(sb), clustered, double(l.fab)};
+            incoming[fill[sb]++] = {std::uint32_t(sa), clustered, double(l.fab) * area(l.a) / area(l.b)};
         }
     }
     std::vector<std::uint32_t> order;  // parents before children
@@ -250,7 +260,6 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
     };
     // Oriented clusters: per cluster and axis direction (+x +y +z -x -y -z), the radiosity of
     // the members turned that way and the power arriving from that way.
-    const bool oriented = options.oriented_clusters && nc > 0;
     std::vector<Rgb> bin_b(oriented ? 6 * nc : 0), next_bin_b(bin_b.size()), bin_power(bin_b.size());
     std::vector<Rgb> from_cluster(oriented ? n : 0);  // irradiance a patch gets from its cluster
     static constexpr std::array<double, 6> kNone{};
@@ -284,15 +293,14 @@ void solve_links(const ElementTree& tree, const ClusterTree* clusters, const std
                 Rgb* bins = oriented && r >= n ? &bin_power[6 * (r - n)] : nullptr;
                 if (bins) std::fill(bins, bins + 6, Rgb());
                 for (std::size_t e = incoming_first[r]; e < incoming_first[r + 1]; ++e) {
-                    const std::size_t k = incoming[e] >> 1;
-                    const bool at_b = incoming[e] & 1;  // r is the link's b end: it gathers from a
-                    const Link& l = links[k];
-                    if (l.fab == 0.0f) continue;
-                    const std::size_t sa = slot(l.a), sb = slot(l.b), src = at_b ? sa : sb;
-                    const double F = at_b ? fba[k] : double(l.fab);
+                    const std::size_t src = incoming[e].src;
+                    const double F = incoming[e].F;
                     // Only a link with a cluster end needs its direction: element pairs skip the root.
-                    const bool clustered = oriented && (sa >= n || sb >= n);
-                    const glm::dvec3 v = clustered ? centre(src) - centre(r) : glm::dvec3(0.0);  // r towards src
+                    if (!incoming[e].clustered) {
+                        sum += b[src] * F;
+                        continue;
+                    }
+                    const glm::dvec3 v = centre(src) - centre(r);  // r towards src
                     const double length = glm::length(v);
                     if (!(length > 0)) {
                         sum += b[src] * F;
