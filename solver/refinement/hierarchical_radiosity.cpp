@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <span>
@@ -502,21 +503,42 @@ public:
     /// parallel (decide() reads the tree and the last solution, never changes them), then, in
     /// the generation's order, linked, dropped or split into pairs of the next generation.
     /// Splitting, the one step that changes the tree, stays serial and in a fixed order, so
-    /// the elements' numbering and the links do not depend on the number of threads.
+    /// the elements' numbering and the links do not depend on the number of threads; the
+    /// links and the next generation are then written in parallel, each pair at the place its
+    /// predecessors' counts give it (serially, the writing took a third of refinement).
     void run(std::vector<Pair> pairs) {
         std::vector<Step> steps;
-        std::vector<float> visible;       // per pair linked after tracing its rays: their open share
-        std::vector<std::uint8_t> shaft;  // per pair: its shaft test (HierarchicalLink::shaft)
+        std::vector<float> visible;                 // per pair linked after tracing its rays: their open share
+        std::vector<std::uint8_t> shaft;            // per pair: its shaft test (HierarchicalLink::shaft)
+        std::vector<std::uint32_t> first;           // per pair split at an element: that element's first child
+        std::vector<std::size_t> at_next, at_link;  // per pair: where its outputs go
         std::vector<Pair> next;
         while (!pairs.empty()) {
-            steps.resize(pairs.size());
-            visible.assign(pairs.size(), -1.0f);
-            shaft.assign(pairs.size(), HierarchicalLink::kShaftUntested);
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.size(), 256), [&](const auto& r) {
+            const std::size_t n = pairs.size();
+            steps.resize(n);
+            visible.assign(n, -1.0f);
+            shaft.assign(n, HierarchicalLink::kShaftUntested);
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& r) {
                 for (std::size_t k = r.begin(); k != r.end(); ++k) steps[k] = decide(pairs[k], visible[k], shaft[k]);
             });
-            next.clear();
-            for (std::size_t k = 0; k < pairs.size(); ++k) apply(pairs[k], steps[k], visible[k], shaft[k], next);
+            first.resize(n);
+            at_next.resize(n + 1);
+            at_link.resize(n + 1);
+            at_next[0] = at_link[0] = 0;
+            for (std::size_t k = 0; k < n; ++k) {
+                const std::uint32_t s = split_element(pairs[k], steps[k]);
+                if (s != kNoElement) first[k] = children(s);
+                at_next[k + 1] = at_next[k] + outputs(pairs[k], steps[k]);
+                at_link[k + 1] = at_link[k] + (steps[k] == Step::link);
+            }
+            next.resize(at_next[n]);
+            const std::size_t linked = links.size();
+            links.resize(linked + at_link[n]);
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& r) {
+                for (std::size_t k = r.begin(); k != r.end(); ++k)
+                    apply(pairs[k], steps[k], visible[k], shaft[k], first[k], next.data() + at_next[k],
+                          links.data() + linked + at_link[k]);
+            });
             pairs.swap(next);
         }
     }
@@ -645,27 +667,42 @@ private:
     }
 
     /// Carries out a decision; new pairs go to `next`.
-    void apply(const Pair& p, Step step, float visible, std::uint8_t shaft, std::vector<Pair>& next) {
-        // Pairs of elements met through clusters go in the unclustered order (the oracle's
-        // ties in area split the first); a planar patch does not see itself.
-        auto any = [&next](std::uint32_t x, std::uint32_t y) {
-            if (ClusterTree::is_cluster(x) || ClusterTree::is_cluster(y))
-                next.push_back({x, y});
-            else if (x != y)
-                next.push_back({std::min(x, y), std::max(x, y)});
+    static constexpr std::uint32_t kNoElement = std::numeric_limits<std::uint32_t>::max();
+
+    /// The element a step splits (its quadtree children replace it), or kNoElement.
+    std::uint32_t split_element(const Pair& p, Step step) const {
+        if (step != Step::split_a && step != Step::split_b) return kNoElement;
+        const std::uint32_t s = step == Step::split_a ? p.a : p.b;
+        return ClusterTree::is_cluster(s) ? kNoElement : s;
+    }
+
+    /// Carries out a decision: the link into `link`, new pairs from `next` on (outputs() of
+    /// them); `first`: the split element's first child. Pairs of elements met through clusters
+    /// go in the unclustered order (the oracle's ties in area split the first); a planar patch
+    /// does not see itself. With `next` null, only counts what it would write.
+    std::size_t apply(const Pair& p, Step step, float visible, std::uint8_t shaft, std::uint32_t first, Pair* next,
+                      Link* link) const {
+        std::size_t count = 0;
+        auto any = [&](std::uint32_t x, std::uint32_t y) {
+            if (!ClusterTree::is_cluster(x) && !ClusterTree::is_cluster(y) && x == y) return;
+            if (next)
+                next[count] = ClusterTree::is_cluster(x) || ClusterTree::is_cluster(y)
+                                  ? Pair{x, y}
+                                  : Pair{std::min(x, y), std::max(x, y)};
+            ++count;
         };
         switch (step) {
             case Step::drop:
-                return;
+                return 0;
             case Step::link:
-                links.push_back({p.a, p.b, 0.0f, visible, shaft});
-                return;
+                if (link) *link = {p.a, p.b, 0.0f, visible, shaft};
+                return 0;
             case Step::split_self: {
                 const auto child = m_clusters->cluster(p.a).child;
                 any(child[0], child[0]);
                 any(child[0], child[1]);
                 any(child[1], child[1]);
-                return;
+                return count;
             }
             case Step::split_a:
             case Step::split_b: {
@@ -674,14 +711,19 @@ private:
                     const auto child = m_clusters->cluster(s).child;
                     any(child[0], other);
                     any(child[1], other);
-                    return;
+                    return count;
                 }
-                const std::uint32_t first = children(s);
                 const bool open = shaft == HierarchicalLink::kShaftOpen;
-                for (std::uint32_t k = 0; k < 4; ++k) next.push_back({first + k, other, open});
-                return;
+                if (next)
+                    for (std::uint32_t k = 0; k < 4; ++k) next[k] = {first + k, other, open};
+                return 4;
             }
         }
+        return 0;
+    }
+    /// How many pairs apply() makes of a decision.
+    std::size_t outputs(const Pair& p, Step step) const {
+        return apply(p, step, 0.0f, HierarchicalLink::kShaftUntested, 0, nullptr, nullptr);
     }
 
     bool splittable(std::uint32_t i) const {
