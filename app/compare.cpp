@@ -118,8 +118,9 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         r.radiosity = B;
         gathered = false;
         if (c.gather != "none" && (hierarchy || double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs)) {
-            const auto v = make_visibility(o.visibility, m.patches());
-            gathered = hierarchy ? gather_point_values(*hierarchy, m, *v, r, "vertices", true)
+            // A hierarchy's elements tile the coarse patches: their visibility is the patches'.
+            const auto v = hierarchy ? nullptr : make_visibility(o.visibility, m.patches());
+            gathered = hierarchy ? gather_point_values(*hierarchy, m, *visibility, r, "vertices", true)
                                  : gather_point_values(m, *v, r, "vertices", true);
             seconds += r.seconds;
         }

@@ -130,9 +130,9 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     if (!o.quiet)
         for (const auto& w : elements->warnings()) std::cerr << "warning: " << w << "\n";
     if (s.gather != "none" && !g_interrupted.load()) {
-        // The elements are what the file shows: gather from them, with visibility among them.
-        const auto element_visibility = make_visibility(o.visibility, elements->patches());
-        gather_point_values(*hierarchy, *elements, *element_visibility, res, s.gather, o.quiet);
+        // The elements tile the patches: the patches' visibility is theirs, with fewer triangles
+        // to trace against (hierarchical_point_values.h).
+        gather_point_values(*hierarchy, *elements, *visibility, res, s.gather, o.quiet);
     }
     if (!interrupted_exit_code()) warn_about_winding(o, scene, elements->patches(), res);
     write_vtu(out, *elements, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.ascii);

@@ -457,13 +457,12 @@ std::shared_ptr<SolutionData> solve(
                 SolveResult res = std::move(sol.result);
                 settings << "patches=" << P.size() << " rays=" << with_default_rays(f, kRefinementRays).visibility_rays
                          << " seed=" << seed << hierarchical_settings(h, sol);
-                // The elements are what the solution shows: gather from them, with visibility among them.
-                const auto element_visibility = make_visibility(s->visibility, out->mesh->patches());
+                // The elements tile the patches: the patches' visibility is theirs (hierarchical_point_values.h).
                 const auto report = [&](const char* stage, std::size_t d, std::size_t t) {
                     job.report_items(stage, d, t);
                 };
-                out->gathered = gather_hierarchical_point_values(sol, *out->mesh, *element_visibility, res, gather,
-                                                                 &job.cancel, report) == GatherOutcome::gathered;
+                out->gathered = gather_hierarchical_point_values(sol, *out->mesh, *visibility, res, gather, &job.cancel,
+                                                                 report) == GatherOutcome::gathered;
                 if (!out->gathered) out->averaged_points = area_weighted_vertex_values(*out->mesh, res.radiosity);
                 out->result = std::move(res);
                 return;

@@ -33,7 +33,10 @@ double hierarchical_gather_pairs(const HierarchicalSolution& solution, const Pat
 /// cluster end is added as the solve computed it (solution.cluster_irradiance). Its cost is
 /// at least vertices x links per path, not vertices x leaves; over kMaxGatherPairs of those
 /// (not counting the children gone down to) it returns over_budget. `visibility` may be over
-/// the elements or over the input patches. A solution refined with a power epsilon first
+/// the elements or over the input patches, which the elements tile: the same answers, and the
+/// patches' fewer triangles trace faster (on the Cornell box at power epsilon 1e-6, 90 patches
+/// against 11,472 elements: the gather 0.74 s instead of 1.01 s, the point data the same to
+/// the digit). A solution refined with a power epsilon first
 /// re-gathers every leaf at its centre the same way and the vertices gather from those
 /// values: its links may hand a whole coarse element one mean (on the box, power epsilon
 /// 3e-6: point data 1.48% -> 0.99% RMS off the 0.1% probes, for about twice the gather;
