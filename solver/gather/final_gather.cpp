@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 
@@ -36,9 +37,21 @@ public:
             bool above = order > 0 && order <= kOrders;  // the rule needs the kernel smooth: no part below x's horizon
             for (int v = 0; v < p.vertex_count && above; ++v) above = glm::dot(n, p.vertices[v] - x) > 0;
             if (above) {
-                const AreaSample at_x{x, 1.0};
                 std::vector<AreaSample> unused;  // orders up to kOrders come from the cache
-                return separated_form_factor({&at_x, 1}, n, m_gauss->points(j, order, unused), p.area, p.normal);
+                const std::span<const AreaSample> at = m_gauss->points(j, order, unused);
+                if (order > 2) {
+                    const AreaSample at_x{x, 1.0};
+                    return separated_form_factor({&at_x, 1}, n, at, p.area, p.normal);
+                }
+                // One or four points (most of a hierarchy's sources): the kernel summed here,
+                // without separated_form_factor's blocking for many points on both sides.
+                double sum = 0.0;
+                for (const AreaSample& y : at) {
+                    const glm::dvec3 d = y.point - x;
+                    const double d2 = glm::dot(d, d);
+                    sum -= y.weight * (glm::dot(n, d) * glm::dot(p.normal, d)) / (d2 * d2);
+                }
+                return std::max(0.0, sum * p.area / std::numbers::pi);
             }
         }
         return point_polygon_form_factor(x, n, p.polygon());
