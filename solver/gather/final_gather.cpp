@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
@@ -212,8 +213,14 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
                               const std::function<void(std::size_t, std::size_t)>& progress) {
     if (sources.list.size() != points.size())
         throw std::invalid_argument("final gather: a source list is needed for every point");
-    if (!sources.list_parent.empty() && sources.list_parent.size() + 1 != sources.offsets.size())
-        throw std::invalid_argument("final gather: a chained list's parent is needed for every list");
+    if (!sources.list_parent.empty()) {
+        if (sources.list_parent.size() + 1 != sources.offsets.size())
+            throw std::invalid_argument("final gather: a chained list's parent is needed for every list");
+        for (std::size_t l = 0; l < sources.list_parent.size(); ++l)
+            if (sources.list_parent[l] < -1 || sources.list_parent[l] >= std::int64_t(l))
+                throw std::invalid_argument("final gather: a chained list's parent must come before it, got " +
+                                            std::to_string(sources.list_parent[l]) + " for list " + std::to_string(l));
+    }
     if (!sources.unblocked.empty() && sources.unblocked.size() != sources.patches.size())
         throw std::invalid_argument("final gather: the unblocked marks must be one per listed source");
     if (sources.descend > 0 &&

@@ -67,9 +67,9 @@ struct GatherSources {
     std::span<const std::uint32_t> patches;  // indices into the patches gathered from
     std::span<const Rgb> irradiance;         // per list, or empty
     /// Optional, per list: the list whose sources follow this one's for the same point (-1:
-    /// none). A hierarchy's lists are its nodes' links, and a point gathers over those of its
-    /// element and every ancestor, so no list is stored per element. `irradiance` is still
-    /// taken from the point's own list only.
+    /// none), always one of a lower index (so the chain ends). A hierarchy's lists are its
+    /// nodes' links, and a point gathers over those of its element and every ancestor, so no
+    /// list is stored per element. `irradiance` is still taken from the point's own list only.
     std::span<const std::int64_t> list_parent = {};
     /// Optional, a hierarchy's (`descend` > 0): per patch, the first of its four children
     /// (consecutive, tiling it) or -1, and the spread (max - min luminance) of the radiosity of
@@ -81,7 +81,8 @@ struct GatherSources {
     std::span<const double> spread = {};
     double descend = 0.0;
     /// Optional, per entry of this struct's `patches` span (as long as it): 1 where a shaft test
-    /// proved the source wholly visible from every point of the list's element, which the
+    /// proved the source wholly visible from every point of the list's element (for a chained
+    /// list, the element of the list it was reached through, an ancestor's), which the
     /// list's points must lie in (ShaftCuller::unblocked, Haines and Wallace 1991):
     /// it takes its unoccluded factor whole and no rays. Children gone down to keep the mark
     /// (their shafts lie inside their parent's).

@@ -98,9 +98,11 @@ GatherPlan gather_plan(const HierarchicalSolution& sol, const PatchMesh& element
 /// leaf and of every ancestor without a list stored per leaf; each entry with its mark: a shaft
 /// test over the input patches (the scene's blockers) found nothing between the two ends of
 /// the link, so every point of the node sees all of the source. On the Cornell box (power
-/// epsilon 3e-6) three links in four are so marked; the gather traces 4.2 million rays instead
-/// of 9.9 million and takes a third less time (0.87 -> 0.57 s; 1.79 -> 1.17 s at 1e-6; medians
-/// of three), at the same error (five gather seeds: 0.68% RMS off the 0.1% probes either way).
+/// epsilon 3e-6) three links in four are so marked; when the gather made the tests itself
+/// (e28e14b) it traced 4.2 million rays instead of 9.9 million and took a third less time, at
+/// the same error (five gather seeds: 0.68% RMS off the 0.1% probes either way). Since
+/// refinement makes them, a pair inheriting its ancestors' proof, 511k of the 647k links at
+/// 1e-6 are marked without a test here.
 struct LinkSources {
     std::vector<std::uint8_t> unblocked;  // per entry of NodeLinks::other
     std::vector<std::int64_t> parent;     // per node
@@ -155,7 +157,8 @@ LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links
     out.parent.resize(tree.size());
     for (std::size_t i = 0; i < tree.size(); ++i) out.parent[i] = tree.node(i).parent;
     out.irradiance.resize(tree.size());
-    for (std::size_t k = 0; k < sol.leaves.size(); ++k) out.irradiance[sol.leaves[k]] = sol.cluster_irradiance[k];
+    if (sol.cluster_irradiance.size() == sol.leaves.size())  // (empty: none came over cluster links)
+        for (std::size_t k = 0; k < sol.leaves.size(); ++k) out.irradiance[sol.leaves[k]] = sol.cluster_irradiance[k];
     return out;
 }
 
@@ -168,8 +171,8 @@ LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links
 /// / 1.02%) for a quarter more time. The leaves' centres gained nothing from it.
 constexpr double kDescendShare = 0.1;
 
-/// Every leaf's value gathered at its centre through its own links (the leaf's list of
-/// `sources`) from the solution's node radiosity: mode "centres", and the first step of the
+/// Every leaf's value gathered at its centre through its own links (the leaf's row, chained to
+/// its ancestors', LinkSources::on) from the solution's node radiosity: mode "centres", and the first step of the
 /// re-gather below.
 std::vector<Rgb> centre_values(const HierarchicalSolution& sol, const PatchMesh& elements, const NodeLinks& links,
                                const LinkSources& sources, const Visibility& visibility, const GatherOptions& options,

@@ -666,7 +666,6 @@ private:
         return m_power_budget > 0 && err * m_tree.geometry()[end].area <= m_power_budget;
     }
 
-    /// Carries out a decision; new pairs go to `next`.
     static constexpr std::uint32_t kNoElement = std::numeric_limits<std::uint32_t>::max();
 
     /// The element a step splits (its quadtree children replace it), or kNoElement.
@@ -918,10 +917,11 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
 std::string hierarchical_settings(const HierarchicalOptions& options, const HierarchicalSolution& solution) {
     std::ostringstream s;
     s << " solver=hierarchical link_epsilon=" << options.link_epsilon << " power_epsilon=" << options.power_epsilon
-      << " link_floor=" << options.link_floor << " max_level=" << options.max_level
-      << " refine_rounds=" << options.refine_rounds << " clustering=" << (options.clustering ? 1 : 0)
-      << " tolerance=" << options.tolerance << " max_iterations=" << options.max_iterations
-      << " elements=" << solution.leaves.size() << " links=" << solution.links.size();
+      << " link_floor=" << options.link_floor << " link_factor_tolerance=" << options.link_factor_tolerance
+      << " max_level=" << options.max_level << " refine_rounds=" << options.refine_rounds
+      << " clustering=" << (options.clustering ? 1 : 0) << " tolerance=" << options.tolerance
+      << " max_iterations=" << options.max_iterations << " elements=" << solution.leaves.size()
+      << " links=" << solution.links.size();
     return s.str();
 }
 

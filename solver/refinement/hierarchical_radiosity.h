@@ -42,8 +42,8 @@ struct HierarchicalOptions {
     bool refine_partial_visibility = true;
     bool cluster_visibility = true;  // cluster links: visible fraction of rays between member centroids
     bool oriented_clusters = true;   // a cluster sends and receives per axis direction, not alike to all members
-    /// Relative error of a link's unoccluded form factor (FormFactorOptions::unoccluded_tolerance
-    /// for the links, when form_factors asks for less): a link hands its receiver a mean within
+    /// Relative error of a link's unoccluded form factor (it overrides a tighter
+    /// FormFactorOptions::unoccluded_tolerance in form_factors): a link hands its receiver a mean within
     /// link_epsilon (a tenth) of the point values, so the form factors' default 1e-6 bought
     /// nothing. On the Cornell box at power epsilon 1e-6 the links' form factors took 0.11 s
     /// instead of 0.29 s (1e-4: 0.17 s), the point data 0.480% RMS off the 0.1% probes against
@@ -76,8 +76,9 @@ struct HierarchicalLink {
     std::uint32_t a, b;
     float fab = 0.0f;  // F_ab; F_ba = F_ab A_a / A_b (a cluster's A: its members' total area)
     /// The share of the refinement's rays between the two that arrived (refine_partial_visibility
-    /// traces them before linking a pair that could still be split), which fab then uses; -1
-    /// where none were traced and fab has its own.
+    /// traces them before linking a pair that could still be split), which fab then uses; 1,
+    /// from no rays, where the shaft test (the pair's or an ancestor pair's) proved it open; -1
+    /// where neither was made and fab has its own.
     float visible = -1.0f;
     /// The shaft test of the pair (ShaftCuller::unblocked over the input patches, made by
     /// refinement on scenes of few planes): not made, passed by the pair or an ancestor pair

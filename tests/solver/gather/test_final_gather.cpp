@@ -234,7 +234,8 @@ TEST(FinalGather, NearSourceWhoseChildrenDifferIsGatheredThroughTheChildren) {
 
 // A hierarchy's points gather over the links of their element and of every ancestor: chained
 // lists (GatherSources::list_parent) must give what one flat list per point, the rows laid one
-// after another, gives, to the bit (the same sources in the same order, the same rays). Under a
+// after another, gives, to the bit (the same sources in the same order, the same rays), with
+// each list's irradiance and each entry's shaft mark, and with sources gone down to. Under a
 // lamp cut into a tree, with a blocker between, so rays and their streams count.
 TEST(FinalGather, ChainedListsGatherAsTheirRowsLaidEndToEnd) {
     Scene s = lamp_over_plane();  // the plane (rho 0.5) under a unit square lamp at z = 1
@@ -289,28 +290,54 @@ TEST(FinalGather, ChainedListsGatherAsTheirRowsLaidEndToEnd) {
         }
     ASSERT_EQ(points.size(), 21u);
     const auto vis = make_visibility("embree", m.patches());
-    GatherSources chained{leaf, offsets, entries, {}};
+    // Irradiance on the leaves' lists only, a shaft mark on every other entry, and (second
+    // pass) a source gone down to: the lamp's root, whose quarters differ.
+    std::vector<Rgb> node_irradiance(nodes.size());
+    for (const std::uint32_t l : leaf) node_irradiance[l] = Rgb::gray(0.01 * double(l));
+    std::vector<std::uint8_t> marks(entries.size());
+    for (std::size_t e = 0; e < marks.size(); e += 2) marks[e] = 1;
+    std::vector<std::int32_t> first_child(nodes.size());
+    for (std::size_t i = 0; i < nodes.size(); ++i) first_child[i] = tree.node(i).first_child;
+    B[lamp] = Rgb::gray(2.5);  // its quarters' mean
+    const std::vector<double> spread = tree.leaf_luminance_spread(B);
+    GatherSources chained{leaf, offsets, entries, node_irradiance};
     chained.list_parent = parent;
-    const std::vector<Rgb> by_chain = final_gather(nodes, B, *vis, points, chained);
-    // The same sources laid out flat, a list per point.
+    chained.unblocked = marks;
+    chained.first_child = first_child;
+    chained.spread = spread;
+    // The same sources laid out flat, a list per point, each entry with its row's mark.
     std::vector<std::size_t> flat_offsets{0};
     std::vector<std::uint32_t> flat, own;
+    std::vector<std::uint8_t> flat_marks;
+    std::vector<Rgb> flat_irradiance;
     for (std::size_t k = 0; k < points.size(); ++k) {
         for (std::int64_t a = leaf[k]; a >= 0; a = parent[std::size_t(a)])
-            flat.insert(flat.end(), rows[std::size_t(a)].begin(), rows[std::size_t(a)].end());
+            for (std::size_t e = offsets[std::size_t(a)]; e < offsets[std::size_t(a) + 1]; ++e) {
+                flat.push_back(entries[e]);
+                flat_marks.push_back(marks[e]);
+            }
         flat_offsets.push_back(flat.size());
+        flat_irradiance.push_back(node_irradiance[leaf[k]]);
         own.push_back(std::uint32_t(k));
     }
-    const std::vector<Rgb> by_list = final_gather(nodes, B, *vis, points, GatherSources{own, flat_offsets, flat, {}});
-    std::size_t lit = 0;
-    bool differ = false;
-    for (std::size_t k = 0; k < points.size(); ++k) {
-        EXPECT_EQ(by_chain[k].g, by_list[k].g) << "point " << k;
-        lit += by_chain[k].g > 0.0;
-        differ |= by_chain[k].g != by_chain[k - k % 3].g;
+    GatherSources listed{own, flat_offsets, flat, flat_irradiance};
+    listed.unblocked = flat_marks;
+    listed.first_child = first_child;
+    listed.spread = spread;
+    for (const double descend : {0.0, 0.1}) {
+        chained.descend = listed.descend = descend;
+        const std::vector<Rgb> by_chain = final_gather(nodes, B, *vis, points, chained);
+        const std::vector<Rgb> by_list = final_gather(nodes, B, *vis, points, listed);
+        std::size_t lit = 0;
+        bool differ = false;
+        for (std::size_t k = 0; k < points.size(); ++k) {
+            EXPECT_EQ(by_chain[k].g, by_list[k].g) << "point " << k << ", descend " << descend;
+            lit += by_chain[k].g > 0.5 * 0.01 * double(leaf[k]);  // more than its irradiance
+            differ |= by_chain[k].g != by_chain[k - k % 3].g;
+        }
+        EXPECT_GE(lit, 15u);  // all but one leaf lit (one lies in the blocker's umbra)
+        EXPECT_TRUE(differ);  // the points of a leaf differ: the sums are not trivially alike
     }
-    EXPECT_GE(lit, 15u);  // all but one leaf in the blocker's umbra
-    EXPECT_TRUE(differ);  // the points of a leaf differ: the sums are not trivially alike
     // A parent list for every list, or none.
     chained.list_parent = std::span<const std::int64_t>(parent).first(parent.size() - 1);
     EXPECT_THROW(final_gather(nodes, B, *vis, points, chained), std::invalid_argument);

@@ -4,6 +4,7 @@
 // reproduces Lambert's formula under a lamp and E / (1 - rho) in a furnace, with cluster links
 // carried by the irradiance the solve computed.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "mesh/patch_mesh.h"
+#include "mesh/scene_loader.h"
 #include "mesh/validation_scenes.h"
 #include "solver/counting_visibility.h"
 #include "solver/form_factors/patch_sampling.h"
@@ -277,4 +279,48 @@ TEST(HierarchicalPointValues, ShaftTestedLinksAreGatheredWithoutRays) {
         }
         EXPECT_GT(checked, 50u);
     }
+}
+
+// Refinement decides each generation's pairs in parallel, splits in order and writes the links
+// and the next pairs in parallel; the gather runs over the points in parallel, each summing its
+// own sources in list order. On the Cornell box (coarse patches as solve makes them, power
+// epsilon 3e-6, depth 3: element splits, inherited shaft proofs, partial visibility) every
+// link, element and point value must be the same on one thread as on two.
+TEST(HierarchicalPointValues, SameLinksElementsAndPointDataOnAnyThreadCount) {
+    MeshingOptions o;
+    o.target_patches = 30;
+    const PatchMesh patches(load_scene("cornell"), o);
+    const auto vis = make_visibility("embree", patches.patches());
+    HierarchicalOptions h;
+    h.max_level = 3;
+    h.power_epsilon = 3e-6;
+    struct Run {
+        std::vector<HierarchicalLink> links;
+        std::size_t nodes = 0;
+        std::vector<Rgb> points;
+    };
+    std::vector<Run> runs;
+    for (const int threads : {1, 2}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        const HierarchicalSolution s = solve_hierarchical(patches.patches(), *vis, h);
+        const PatchMesh elements = s.tree.conforming_mesh(s.leaves);
+        SolveResult res = s.result;
+        ASSERT_EQ(gather_hierarchical_point_values(s, elements, *vis, res, "vertices"), GatherOutcome::gathered);
+        runs.push_back({s.links, s.tree.size(), res.point_radiosity});
+    }
+    std::size_t open = 0;
+    for (const auto& l : runs[0].links) open += l.shaft == HierarchicalLink::kShaftOpen;
+    std::cout << runs[0].links.size() << " links (" << open << " proved open), " << runs[0].nodes << " nodes, "
+              << runs[0].points.size() << " points\n";
+    EXPECT_GT(open, 10000u);
+    ASSERT_EQ(runs[1].nodes, runs[0].nodes);
+    ASSERT_EQ(runs[1].links.size(), runs[0].links.size());
+    for (std::size_t k = 0; k < runs[0].links.size(); ++k) {
+        const HierarchicalLink &a = runs[0].links[k], &b = runs[1].links[k];
+        ASSERT_TRUE(a.a == b.a && a.b == b.b && a.fab == b.fab && a.visible == b.visible && a.shaft == b.shaft)
+            << "link " << k;
+    }
+    ASSERT_EQ(runs[1].points.size(), runs[0].points.size());
+    for (std::size_t v = 0; v < runs[0].points.size(); ++v)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(runs[1].points[v][c], runs[0].points[v][c]) << "vertex " << v;
 }
