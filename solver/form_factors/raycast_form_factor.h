@@ -53,6 +53,9 @@ public:
     /// Radiosity at a point, B(x) = E + rho sum_j F(x -> j) B_j, is what adaptive
     /// subdivision compares with an element's mean.
     double point_factor(const glm::dvec3& x, const glm::dvec3& n, std::size_t j, std::uint64_t stream) const;
+    /// The shaft culler over the patches the estimator was built with (null without
+    /// visibility); patches appended later are not among its blockers.
+    const ShaftCuller* culler() const { return m_culler.get(); }
 
 private:
     /// F_ij: with receiver_samples 0, the unoccluded factor to unoccluded_tolerance times the

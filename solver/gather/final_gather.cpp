@@ -57,6 +57,8 @@ public:
         }
         return point_polygon_form_factor(x, n, p.polygon());
     }
+    /// Patch j's circumradius, cached with the Gauss points.
+    double radius(std::size_t j) const { return m_gauss ? m_gauss->radius(j) : circumradius(m_patches[j]); }
 
 private:
     static constexpr int kOrders = GaussPointCache::kCachedOrders;  // beyond: Lambert's formula is cheaper
@@ -115,13 +117,7 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
             if (p.surface == x.surface || radiosity[j].max() <= 0) return;
             if (p.height(x.position) <= 0) return;  // x behind p: p sends nothing its way
             if (may_descend && sources->first_child[j] >= 0) {
-                double r2 = 0;
-                for (int v = 0; v < p.vertex_count; ++v) {
-                    const glm::dvec3 e = p.vertices[v] - p.centre;
-                    r2 = std::max(r2, glm::dot(e, e));
-                }
-                const glm::dvec3 d = p.centre - x.position;
-                const double ratio = std::min(1.0, std::sqrt(r2 / glm::dot(d, d)));
+                const double ratio = std::min(1.0, factor.radius(j) / glm::length(p.centre - x.position));
                 if (ratio * sources->spread[j] > sources->descend * radiosity[j].luminance()) {
                     for (int c = 0; c < 4; ++c)
                         pending.push_back({std::size_t(sources->first_child[j] + c), unblocked});

@@ -811,7 +811,9 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     FormFactorOptions link_factors = with_default_rays(options.form_factors, kRefinementRays);
     link_factors.unoccluded_tolerance = std::max(link_factors.unoccluded_tolerance, options.link_factor_tolerance);
     const RaycastFormFactor ff(tree.geometry(), &visibility, link_factors);
-    const ShaftCuller culler(patches);
+    // Refinement's shaft tests use the estimator's culler, built over the input patches (the
+    // tree held only those then), rather than building the same one again.
+    const ShaftCuller* culler = ff.culler();
     std::optional<ClusterTree> clusters;
     std::vector<Rgb> Bc;
     if (options.clustering) {
@@ -851,7 +853,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
             if (options.progress) options.progress(stage + ": refining links", 0, 1);
             Refiner refiner(tree, cluster_tree, options, min_area, B, Bc, scale, power,
                             options.refine_partial_visibility ? &ff : nullptr, &seen,
-                            culler.plane_groups() <= kRefinementShaftPlanes ? &culler : nullptr);
+                            culler && culler->plane_groups() <= kRefinementShaftPlanes ? culler : nullptr);
             if (cluster_tree) {
                 refiner.run({{cluster_tree->root(), cluster_tree->root()}});
             } else {

@@ -59,11 +59,11 @@ struct HierarchicalOptions {
 };
 
 /// The power epsilon `--adaptive` refines with ("model no more than the scene needs"). On the
-/// Cornell box it gives 0.98% RMS point data at the 0.1% probes in 0.43 s, against the default
-/// uniform run's 1.26% in 0.93 s (one `compare --meshes` run); on the 10k office 2.9% median in 28 s of wall time on 2 cores
-/// for the solve and gather, against uniform shooting's 5.8% in 118 s of CPU for the whole run
-/// (README, "Adaptive subdivision and hierarchical radiosity"). A share of the scene's power,
-/// so it does not depend on the scene's units.
+/// Cornell box it gives 0.98% RMS point data at the 0.1% probes in 0.44 s, against the default
+/// uniform run's 1.26% in 1.02 s (one `compare --meshes` run); on the 10k office 2.9% median
+/// in 28 s of wall time on 2 cores for the solve and gather, against uniform shooting's 5.8% in 118 s of CPU for the
+/// whole run (README, "Adaptive subdivision and hierarchical radiosity"). A share of the scene's power, so it does not
+/// depend on the scene's units.
 inline constexpr double kAdaptivePowerEpsilon = 1e-5;
 
 /// The power epsilon an adaptive solve refines with: the one given when above 0, else
