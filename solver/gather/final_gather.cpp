@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
@@ -20,6 +22,22 @@
 namespace bounce {
 namespace {
 
+/// What the gather reads of a source at every point, in one place (a Patch is 216 bytes over
+/// four cache lines, and a point of a hierarchy's gather reads about a thousand sources
+/// scattered over the tree): its plane, bounding sphere, and when to go down to its children.
+struct SourceCard {
+    glm::dvec3 centre{0.0};
+    glm::dvec3 normal{0.0};
+    double offset = 0.0;  // dot(normal, a vertex): height(x) = dot(normal, x) - offset
+    double radius = 0.0;  // circumradius
+    /// GatherSources::descend's test min(1, r / d) spread > descend L, solved for the distance
+    /// d: the children are taken when d < descend_within (0: never).
+    double descend_within = 0.0;
+    double area = 0.0;
+    int surface = 0;
+    bool dark = false;  // sends nothing (B = 0)
+};
+
 /// Unoccluded point-to-patch factors: Lambert's formula, or for well-separated patches wholly
 /// above the point's horizon the Gauss-Legendre rule of the point-to-point kernel at the order
 /// the pair's separation predicts (as UnoccludedFormFactor does for patch pairs).
@@ -29,20 +47,25 @@ public:
         if (tolerance > 0) m_gauss.emplace(patches, tolerance);
     }
 
-    /// F(dA at x with normal n -> patch j), for x in front of patch j.
-    double operator()(const glm::dvec3& x, const glm::dvec3& n, std::size_t j) const {
-        const Patch& p = m_patches[j];
+    /// F(dA at x with normal n -> patch j), for x in front of patch j, whose card is c and
+    /// centre lies `distance` from x.
+    double operator()(const glm::dvec3& x, const glm::dvec3& n, std::size_t j, const SourceCard& c,
+                      double distance) const {
         if (m_gauss) {
-            const double r = m_gauss->radius(j);
-            const int order = m_gauss->order(glm::length(p.centre - x) - r, r, kOrders);
-            bool above = order > 0 && order <= kOrders;  // the rule needs the kernel smooth: no part below x's horizon
-            for (int v = 0; v < p.vertex_count && above; ++v) above = glm::dot(n, p.vertices[v] - x) > 0;
+            const int order = m_gauss->order(distance - c.radius, c.radius, kOrders);
+            // The rule needs the kernel smooth: no part below x's horizon. The bounding sphere
+            // settles most sources with one dot product, the vertices the rest.
+            bool above = order > 0 && order <= kOrders;
+            if (above && glm::dot(n, c.centre - x) <= c.radius) {
+                const Patch& p = m_patches[j];
+                for (int v = 0; v < p.vertex_count && above; ++v) above = glm::dot(n, p.vertices[v] - x) > 0;
+            }
             if (above) {
                 std::vector<AreaSample> unused;  // orders up to kOrders come from the cache
                 const std::span<const AreaSample> at = m_gauss->points(j, order, unused);
                 if (order > 2) {
                     const AreaSample at_x{x, 1.0};
-                    return separated_form_factor({&at_x, 1}, n, at, p.area, p.normal);
+                    return separated_form_factor({&at_x, 1}, n, at, c.area, c.normal);
                 }
                 // One or four points (most of a hierarchy's sources): the kernel summed here,
                 // without separated_form_factor's blocking for many points on both sides.
@@ -50,12 +73,12 @@ public:
                 for (const AreaSample& y : at) {
                     const glm::dvec3 d = y.point - x;
                     const double d2 = glm::dot(d, d);
-                    sum -= y.weight * (glm::dot(n, d) * glm::dot(p.normal, d)) / (d2 * d2);
+                    sum -= y.weight * (glm::dot(n, d) * glm::dot(c.normal, d)) / (d2 * d2);
                 }
-                return std::max(0.0, sum * p.area / std::numbers::pi);
+                return std::max(0.0, sum * c.area / std::numbers::pi);
             }
         }
-        return point_polygon_form_factor(x, n, p.polygon());
+        return point_polygon_form_factor(x, n, m_patches[j].polygon());
     }
     /// Patch j's circumradius, cached with the Gauss points.
     double radius(std::size_t j) const { return m_gauss ? m_gauss->radius(j) : circumradius(m_patches[j]); }
@@ -84,6 +107,27 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
     std::atomic<std::size_t> done{0};
     const double lift = visibility.offset();
     const PointFactor factor(patches, options.kernel_tolerance);
+    const bool may_descend = sources && sources->descend > 0;
+    std::vector<SourceCard> cards(patches.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, patches.size(), 4096), [&](const auto& r) {
+        for (std::size_t j = r.begin(); j != r.end(); ++j) {
+            const Patch& p = patches[j];
+            SourceCard& c = cards[j];
+            c.centre = p.centre;
+            c.normal = p.normal;
+            c.offset = glm::dot(p.normal, p.vertices[0]);
+            c.radius = factor.radius(j);
+            c.area = p.area;
+            c.surface = p.surface;
+            c.dark = !(radiosity[j].max() > 0);
+            if (may_descend && sources->first_child[j] >= 0) {
+                const double limit = sources->descend * radiosity[j].luminance();
+                if (sources->spread[j] > limit)
+                    c.descend_within =
+                        limit > 0 ? c.radius * sources->spread[j] / limit : std::numeric_limits<double>::infinity();
+            }
+        }
+    });
     tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
         if (cancel && cancel->load(std::memory_order_relaxed)) return;
         const GatherPoint& x = points[i];
@@ -108,28 +152,26 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
         // and whether a shaft test proved them unblocked.
         thread_local std::vector<std::pair<std::size_t, bool>> pending;
         pending.clear();
-        const bool may_descend = sources && sources->descend > 0;
+        Rgb open_sum;  // the sources proved wholly visible: no rays
         const bool marked = sources && !sources->unblocked.empty();
         const bool chained = sources && !sources->list_parent.empty();
         // One source: its term (and rays), or its children onto `pending`.
         const auto take = [&](std::size_t j, bool unblocked) {
-            const Patch& p = patches[j];
-            if (p.surface == x.surface || radiosity[j].max() <= 0) return;
-            if (p.height(x.position) <= 0) return;  // x behind p: p sends nothing its way
-            if (may_descend && sources->first_child[j] >= 0) {
-                const double ratio = std::min(1.0, factor.radius(j) / glm::length(p.centre - x.position));
-                if (ratio * sources->spread[j] > sources->descend * radiosity[j].luminance()) {
-                    for (int c = 0; c < 4; ++c)
-                        pending.push_back({std::size_t(sources->first_child[j] + c), unblocked});
-                    return;
-                }
-            }
-            const double f0 = factor(x.position, x.normal, j);
-            if (!(f0 > 0)) return;
-            if (unblocked) {
-                terms.push_back({j, segments.size(), 0, f0});
+            const SourceCard& c = cards[j];
+            if (c.surface == x.surface || c.dark) return;
+            if (glm::dot(c.normal, x.position) - c.offset <= 0) return;  // x behind: it sends nothing x's way
+            const double distance = glm::length(c.centre - x.position);
+            if (distance < c.descend_within) {
+                for (int k = 0; k < 4; ++k) pending.push_back({std::size_t(sources->first_child[j] + k), unblocked});
                 return;
             }
+            const double f0 = factor(x.position, x.normal, j, c, distance);
+            if (!(f0 > 0)) return;
+            if (unblocked) {
+                open_sum += radiosity[j] * f0;
+                return;
+            }
+            const Patch& p = patches[j];
             // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
             int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
             if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
@@ -160,8 +202,8 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
             // The sources are scattered over the tree's nodes: fetch the next one's patch while
             // this one is taken (its first touch was the gather's largest stall).
             if (sources && entry < end) {
-                const char* next = reinterpret_cast<const char*>(&patches[sources->patches[entry]]);
-                for (std::size_t line = 0; line < sizeof(Patch); line += 64) __builtin_prefetch(next + line);
+                const char* next = reinterpret_cast<const char*>(&cards[sources->patches[entry]]);
+                for (std::size_t line = 0; line < sizeof(SourceCard); line += 64) __builtin_prefetch(next + line);
             }
             take(sources ? sources->patches[e] : e, marked && sources->unblocked[e]);
             while (!pending.empty()) {  // children last in, first out, each before its siblings
@@ -172,7 +214,7 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
         }
         blocked.resize(segments.size());
         visibility.occluded(segments, blocked);
-        Rgb gathered;
+        Rgb gathered = open_sum;
         for (const Term& t : terms) {
             double open = 0, total = 0;
             std::size_t open_rays = 0;
