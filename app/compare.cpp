@@ -61,6 +61,9 @@ struct CompareCommand {
     int refine_rounds = HierarchicalOptions{}.refine_rounds;  // --meshes: hierarchical refine-and-solve rounds
     // --meshes: hierarchical power epsilons (BF refinement on power), each with every link epsilon
     std::vector<double> power_epsilons = {HierarchicalOptions{}.power_epsilon};
+    // --meshes: hierarchical display refinement tolerances (DisplayRefinement), each a row of
+    // every solve (0: off)
+    std::vector<double> display_tolerances = {kDefaultDisplayTolerance};
     std::string reference;  // --reference: a `bounce reference` CSV; empty: probes cached in `out`
     std::vector<std::size_t> patch_counts = {250, 500, 1000, 2000, 4000, 8000};  // --meshes: uniform patch meshes
     std::string gather = "vertices";  // point data of every run, as solve writes it
@@ -109,19 +112,15 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     // The truth every row is scored on: path-traced probes, computed once and cached.
     const std::vector<ReferencePoint> probes = reference_for_compare(scene, c.reference, c.out, o.quiet);
     // Scores a solution as solve would write it: point data gathered (the time added to the
-    // row's seconds) when the mesh is within the gather's budget.
-    // A hierarchical solution gathers through its links (hierarchical_point_values.h), and
-    // that gather weighs its own budget from the lists it builds (asking first would build them twice).
-    auto score_mesh = [&](const PatchMesh& m, const std::vector<Rgb>& B, double& seconds, bool& gathered,
-                          const HierarchicalSolution* hierarchy) {
+    // row's seconds) when the mesh is within the gather's budget. (A hierarchical solution
+    // gathers through its links, below, and weighs its own budget from the lists it builds.)
+    auto score_mesh = [&](const PatchMesh& m, const std::vector<Rgb>& B, double& seconds, bool& gathered) {
         SolveResult r;
         r.radiosity = B;
         gathered = false;
-        if (c.gather != "none" && (hierarchy || double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs)) {
-            // A hierarchy's elements tile the coarse patches: their visibility is the patches'.
-            const auto v = hierarchy ? nullptr : make_visibility(o.visibility, m.patches());
-            gathered = hierarchy ? gather_point_values(*hierarchy, m, *visibility, r, "vertices", true)
-                                 : gather_point_values(m, *v, r, "vertices", true);
+        if (c.gather != "none" && double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs) {
+            const auto v = make_visibility(o.visibility, m.patches());
+            gathered = gather_point_values(m, *v, r, "vertices", true);
             seconds += r.seconds;
         }
         return score_at_probes(m, B, probes, r.point_radiosity);
@@ -135,9 +134,9 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     };
     std::vector<Row> rows;
     auto add_row = [&](std::string method, std::string setting, std::size_t links, double seconds, double rms,
-                       const PatchMesh& m, const std::vector<Rgb>& B, const HierarchicalSolution* hierarchy = nullptr) {
+                       const PatchMesh& m, const std::vector<Rgb>& B) {
         Row r{std::move(method), std::move(setting), m.size(), links, seconds, rms, {}, false};
-        r.probe = score_mesh(m, B, r.seconds, r.gathered, hierarchy);
+        r.probe = score_mesh(m, B, r.seconds, r.gathered);
         rows.push_back(std::move(r));
     };
     auto wanted = [&](const char* method) {
@@ -207,11 +206,30 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
             h.cancel = &g_interrupted;
             const HierarchicalSolution s = solve_hierarchical(P, *visibility, h);
             const PatchMesh elements = s.tree.conforming_mesh(s.leaves);
-            std::ostringstream setting;
-            setting << "link epsilon " << eps;
-            if (power_eps > 0) setting << " power epsilon " << power_eps;
-            add_row("hierarchical", setting.str(), s.links.size(), seconds_since(t0),
-                    vs_fine(s.tree, s.leaves, s.result.radiosity), elements, s.result.radiosity, &s);
+            const double solve_seconds = seconds_since(t0);
+            const double fine = vs_fine(s.tree, s.leaves, s.result.radiosity);
+            // One solve, a row per display tolerance: each its solve's time plus its own gather's,
+            // through the links; the elements tile the coarse patches, whose visibility is theirs.
+            for (const double display : c.display_tolerances) {
+                if (g_interrupted.load()) break;
+                std::ostringstream setting;
+                setting << "link epsilon " << eps;
+                if (power_eps > 0) setting << " power epsilon " << power_eps;
+                if (display > 0) setting << " display " << display;
+                HierarchicalSolution shown = s;
+                PatchMesh cells = elements;
+                Row r{"hierarchical", setting.str(), s.leaves.size(), s.links.size(), solve_seconds, fine, {}, false};
+                SolveResult g;
+                g.radiosity = shown.result.radiosity;
+                g.irradiance = shown.result.irradiance;
+                if (c.gather != "none") {
+                    r.gathered =
+                        gather_point_values(shown, cells, *visibility, g, "vertices", DisplayRefinement{display}, true);
+                    r.seconds += g.seconds;
+                }
+                r.probe = score_at_probes(cells, g.radiosity, probes, g.point_radiosity);
+                rows.push_back(std::move(r));
+            }
         }
     if (interrupted_exit_code()) return interrupted_exit_code();
     std::ostringstream csv;
@@ -447,6 +465,13 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
     cmp_cmd
         ->add_option("--power-epsilons", cmp->power_epsilons,
                      "--meshes: hierarchical power epsilons, each run with every link epsilon (0: off)")
+        ->delimiter(',')
+        ->check(in_range(0.0, 1.0))
+        ->capture_default_str();
+    cmp_cmd
+        ->add_option("--display-tolerances", cmp->display_tolerances,
+                     "--meshes: hierarchical display refinement tolerances (solve --display-tolerance), each a row "
+                     "of every hierarchical solve (0: off)")
         ->delimiter(',')
         ->check(in_range(0.0, 1.0))
         ->capture_default_str();

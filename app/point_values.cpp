@@ -54,4 +54,18 @@ bool gather_point_values(const HierarchicalSolution& solution, const PatchMesh& 
             " vertices (and, with a power epsilon, the elements' centres) x the links along their elements' paths");
 }
 
+bool gather_point_values(HierarchicalSolution& solution, PatchMesh& elements, const Visibility& visibility,
+                         SolveResult& res, const std::string& mode, const DisplayRefinement& display, bool quiet) {
+    const std::string pairs =
+        std::to_string(elements.mesh().n_vertices()) +
+        " vertices (and, with a power epsilon, the elements' centres) x the links along their elements' paths";
+    return with_progress(
+        mode, quiet,
+        [&](const StageProgress& p) {
+            return bounce::gather_hierarchical_point_values(solution, elements, visibility, res, mode, display,
+                                                            &g_interrupted, p);
+        },
+        pairs);
+}
+
 }  // namespace bounce::app

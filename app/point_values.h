@@ -6,6 +6,7 @@
 #include <string>
 
 #include "mesh/patch_mesh.h"
+#include "solver/gather/hierarchical_point_values.h"
 #include "solver/gather/point_values.h"
 #include "solver/linear/solve_result.h"
 #include "solver/refinement/hierarchical_radiosity.h"
@@ -23,5 +24,10 @@ bool gather_point_values(const PatchMesh& mesh, const Visibility& visibility, So
 /// (bounce::gather_hierarchical_point_values).
 bool gather_point_values(const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility,
                          SolveResult& res, const std::string& mode, bool quiet);
+
+/// The same with display refinement (bounce::DisplayRefinement): `solution` and `elements`
+/// may gain display leaves, and res's per-leaf arrays follow them.
+bool gather_point_values(HierarchicalSolution& solution, PatchMesh& elements, const Visibility& visibility,
+                         SolveResult& res, const std::string& mode, const DisplayRefinement& display, bool quiet);
 
 }  // namespace bounce::app

@@ -58,6 +58,9 @@ struct SolveCommand {
     // Options of the patch solvers alone: given with --adaptive or hierarchical, refused by name.
     std::vector<std::pair<std::string, const CLI::Option*>> patch_solver_only;
     std::string gather = "vertices";  // point values: final gather at the vertices (point_values.h)
+    /// Hierarchical: display refinement of the point data (DisplayRefinement), 0: off.
+    DisplayRefinement display{kDefaultDisplayTolerance};
+    const CLI::Option* display_given = nullptr;
 };
 
 /// A number as a stream prints it (1e-05).
@@ -132,7 +135,12 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     if (s.gather != "none" && !g_interrupted.load()) {
         // The elements tile the patches: the patches' visibility is theirs, with fewer triangles
         // to trace against (hierarchical_point_values.h).
-        gather_point_values(*hierarchy, *elements, *visibility, res, s.gather, o.quiet);
+        const std::size_t solved = hierarchy->leaves.size();
+        gather_point_values(*hierarchy, *elements, *visibility, res, s.gather, s.display, o.quiet);
+        settings << " display_tolerance=" << s.display.tolerance << " display_cells=" << elements->size();
+        if (elements->size() != solved)
+            summary << "display refinement: " << elements->size() - solved << " more cells (the point data gathered "
+                    << "at their vertices)\n";
     }
     if (!interrupted_exit_code()) warn_about_winding(o, scene, elements->patches(), res);
     write_vtu(out, *elements, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.ascii);
@@ -169,6 +177,8 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
                                     "(with --adaptive " +
                                     number_text(kAdaptivePowerEpsilon) + " unless given)");
     if (s.adaptive || s.solver == "hierarchical") return run_solve_elements(o, s, out);
+    if (s.display_given && s.display_given->count() > 0)
+        throw std::invalid_argument("--display-tolerance applies to the hierarchical solver (and --adaptive)");
     if (!s.log_csv.empty()) check_output(s.log_csv);
 
     const bool elements = s.element_split > 1;
@@ -328,6 +338,14 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                      "scene's power (BF refinement; 0: off)")
         ->check(in_range(0.0, 1.0))
         ->capture_default_str();
+    solve->display_given =
+        solve_cmd
+            ->add_option("--display-tolerance", solve->display.tolerance,
+                         "hierarchical: split an element for display where the value gathered at its centre and the "
+                         "mean of its vertices' differ by more than this share, and gather the new vertices (linear "
+                         "interpolation, as ParaView shows the point data, misses curved light); 0: off")
+            ->check(in_range(0.0, 1.0))
+            ->capture_default_str();
     solve_cmd
         ->add_option("--refine-rounds", solve->hierarchical.refine_rounds,
                      "hierarchical: refine the links and solve this many times, each round refining with the last "

@@ -375,7 +375,7 @@ std::shared_ptr<SolutionData> solve(
     const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& reference, bool adaptive,
     const py::object& target_error, const py::object& max_patches, double link_epsilon,
     std::optional<double> power_epsilon, int refine_rounds, int max_level, bool clustering,
-    const py::object& progress) {
+    std::optional<double> display_tolerance, const py::object& progress) {
     std::vector<std::string> solvers = solver_names();
     solvers.push_back("hierarchical");
     check_member("solver", solver_name, solvers);
@@ -388,6 +388,10 @@ std::shared_ptr<SolutionData> solve(
             throw InputError(std::string(name) +
                              " belonged to the receiver-only refinement adaptive ran before, now retired: adaptive is "
                              "the hierarchical solver refining on power; set power_epsilon");
+    if (!elements && display_tolerance)
+        throw InputError("display_tolerance applies to the hierarchical solver (and adaptive)");
+    const DisplayRefinement display{display_tolerance.value_or(kDefaultDisplayTolerance)};
+    check_range("display_tolerance", display.tolerance, 0.0, 1.0);
     if (elements && (residuals || reference))
         throw InputError("residuals and reference apply to the patch solvers, not to adaptive or hierarchical");
     // As the command line: tolerance and max_iterations, given, stop the hierarchical iterations
@@ -453,7 +457,7 @@ std::shared_ptr<SolutionData> solve(
                 // Kept for the gather through its links, which does not read its result.
                 HierarchicalSolution sol = solve_hierarchical(P, *visibility, h);
                 if (job.cancel) return;
-                out->mesh = std::make_shared<const PatchMesh>(sol.tree.conforming_mesh(sol.leaves));
+                PatchMesh cells = sol.tree.conforming_mesh(sol.leaves);
                 SolveResult res = std::move(sol.result);
                 settings << "patches=" << P.size() << " rays=" << with_default_rays(f, kRefinementRays).visibility_rays
                          << " seed=" << seed << hierarchical_settings(h, sol);
@@ -461,8 +465,10 @@ std::shared_ptr<SolutionData> solve(
                 const auto report = [&](const char* stage, std::size_t d, std::size_t t) {
                     job.report_items(stage, d, t);
                 };
-                out->gathered = gather_hierarchical_point_values(sol, *out->mesh, *visibility, res, gather, &job.cancel,
-                                                                 report) == GatherOutcome::gathered;
+                out->gathered = gather_hierarchical_point_values(sol, cells, *visibility, res, gather, display,
+                                                                 &job.cancel, report) == GatherOutcome::gathered;
+                settings << " display_tolerance=" << display.tolerance << " display_cells=" << cells.size();
+                out->mesh = std::make_shared<const PatchMesh>(std::move(cells));
                 if (!out->gathered) out->averaged_points = area_weighted_vertex_values(*out->mesh, res.radiosity);
                 out->result = std::move(res);
                 return;
@@ -915,11 +921,14 @@ PYBIND11_MODULE(_bounce, m) {
           py::arg("residuals") = false, py::arg("reference") = py::none(), py::arg("adaptive") = false,
           py::arg("target_error") = py::none(), py::arg("max_patches") = py::none(), py::arg("link_epsilon") = 0.1,
           py::arg("power_epsilon") = py::none(), py::arg("refine_rounds") = HierarchicalOptions{}.refine_rounds,
-          py::arg("max_level") = 4, py::arg("clustering") = true, py::arg("progress") = py::none(),
+          py::arg("max_level") = 4, py::arg("clustering") = true, py::arg("display_tolerance") = py::none(),
+          py::arg("progress") = py::none(),
           "Radiosity of the scene, as `bounce solve` computes it with the same options (the keywords are its "
           "flags: solver shooting, gauss-seidel, jacobi, direct or hierarchical; form_factors raycast, exact, "
           "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive, the hierarchical "
-          "solver with power_epsilon 1e-5 unless given; target_error and max_patches are retired and refused). "
+          "solver with power_epsilon 1e-5 unless given; target_error and max_patches are retired and refused; "
+          "display_tolerance, hierarchical only, 0.01 unless given, splits elements for display where linear "
+          "interpolation of the point data would miss the gathered light, 0 off). "
           "Unset, tolerance is 1e-3 (hierarchical: 1e-6, the largest change of an element per iteration relative to "
           "the mean), max_iterations 100 N shots or 10000 sweeps (hierarchical: 1000), max_seconds none, sor 1, "
           "overshoot off, cache_mb 1024; max_seconds, sor, overshoot and cache_mb are refused with adaptive or "

@@ -47,4 +47,32 @@ GatherOutcome gather_hierarchical_point_values(
     const std::string& mode, const std::atomic<bool>* cancel = nullptr,
     const std::function<void(const char*, std::size_t, std::size_t)>& progress = {});
 
+/// Display refinement of a hierarchical solution's point data. A point value between the
+/// vertices is their linear interpolation (as ParaView shows it), which misses where the
+/// light curves within an element: across a penumbra, into a corner. On the Cornell box at
+/// power epsilon 2e-7, level 4, the vertex values gathered over every leaf and interpolated
+/// were 0.31% RMS off the 0.1% probes, the same gather at the probes themselves 0.14%.
+struct DisplayRefinement {
+    /// A leaf is split for display (its four children take its radiosity and gather through
+    /// its links) where its centre value and the mean of its vertices' values differ by more
+    /// than this share of the centre value; its new vertices are gathered. 0: off.
+    double tolerance = 0.0;
+};
+
+/// The tolerance `bounce solve`, `compare` and the Python module take unless told: on the
+/// Cornell box (level 4, compare's probes) it took the point data at power epsilon 1e-6 from
+/// 0.48% to 0.38% RMS and at 3e-7 from 0.37% to 0.31%, for a fifth to a quarter more time.
+inline constexpr double kDefaultDisplayTolerance = 0.01;
+
+/// gather_hierarchical_point_values, then, in mode "vertices" with a positive tolerance,
+/// display refinement: splits leaves of `solution` (its tree, leaves, node radiosity and
+/// cluster irradiance grow; the links stay), replaces `elements` by the new leaves' conforming
+/// mesh and spreads res's per-leaf arrays (radiosity, irradiance) to the new leaves; the old
+/// vertices keep their values. The elements the solve refined are unchanged in number of
+/// links and in the energy account: a split leaf's children tile it with its radiosity.
+GatherOutcome gather_hierarchical_point_values(
+    HierarchicalSolution& solution, PatchMesh& elements, const Visibility& visibility, SolveResult& res,
+    const std::string& mode, const DisplayRefinement& display, const std::atomic<bool>* cancel = nullptr,
+    const std::function<void(const char*, std::size_t, std::size_t)>& progress = {});
+
 }  // namespace bounce

@@ -20,11 +20,20 @@ methods = [("patches", "o", "uniform patches (every patch shoots)"),
            ("discontinuity", "v", "discontinuity meshes (every patch shoots)"),
            ("uniform", "s", "uniform elements (coarse patches shoot)"),
            ("adaptive", "D", "adaptive elements"),
-           ("hierarchical", "^", "hierarchical")]
+           ("hierarchical", "^", "hierarchical"),
+           ("hierarchical display", "P", "hierarchical, display refinement")]
+
+
+def series(row):
+    """The chart line of a row: hierarchical rows with display refinement apart from those without."""
+    return row["method"] + (" display" if " display " in row["setting"] else "")
+
+
+
 for k, (method, marker, name) in enumerate(methods):
     pts = sorted((int(r["elements"]), float(r["seconds"]), float(r["probe_rms_smooth"]) * 100,
                   float(r["probe_rms_patch"]) * 100, r.get("point_data", "averaged") == "gathered")
-                 for r in rows if r["method"] == method)
+                 for r in rows if series(r) == method)
     if not pts:
         continue
     colour = cmap(0.85 * k / (len(methods) - 1))

@@ -324,3 +324,90 @@ TEST(HierarchicalPointValues, SameLinksElementsAndPointDataOnAnyThreadCount) {
     for (std::size_t v = 0; v < runs[0].points.size(); ++v)
         for (int c = 0; c < 3; ++c) ASSERT_EQ(runs[1].points[v][c], runs[0].points[v][c]) << "vertex " << v;
 }
+
+// Display refinement against the closed form under a lamp: the plane's point data between
+// the vertices (interpolated as score_at_probes and ParaView do) is Lambert's formula at
+// every point, and that curves most right under the lamp's edges. The split elements' new
+// vertices must gather through their leaf's links to the formula (as every vertex does), the
+// old vertices keep their values, the cells their power, and the interpolated field comes
+// closer to the formula.
+TEST(HierarchicalPointValues, DisplayRefinementInterpolatesLambertsFormulaCloser) {
+    const Scene s = lamp_over_plane();
+    MeshingOptions o;
+    o.subdivide = false;
+    const PatchMesh m(s, o);
+    const auto vis = make_visibility("embree", m.patches());
+    HierarchicalOptions h;
+    h.link_epsilon = 0.3;
+    h.power_epsilon = 1e-3;
+    h.max_level = 5;
+    const HierarchicalSolution sol = solve_hierarchical(m.patches(), *vis, h);
+    const PatchMesh elements = sol.tree.conforming_mesh(sol.leaves);
+    auto lambert = [&](const glm::dvec3& x) {
+        return 0.5 * Rgb(3, 2, 1) * point_polygon_form_factor(x, {0, 0, 1}, s.surfaces[1].vertices);
+    };
+    // Probes on a 40 x 40 grid over the plane, their truth the formula.
+    std::vector<ReferencePoint> truth;
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 40; ++j) {
+            ReferencePoint r;
+            r.position = {-2 + 5 * (i + 0.5) / 40, -2 + 5 * (j + 0.5) / 40, 0};
+            r.normal = {0, 0, 1};
+            r.radiosity = lambert(r.position);
+            r.surface = "plane";
+            r.status = "converged";
+            r.has_value = true;
+            truth.push_back(r);
+        }
+    SolveResult plain = sol.result;
+    ASSERT_EQ(gather_hierarchical_point_values(sol, elements, *vis, plain, "vertices"), GatherOutcome::gathered);
+    HierarchicalSolution shown = sol;
+    PatchMesh cells = elements;
+    SolveResult res = sol.result;
+    ASSERT_EQ(gather_hierarchical_point_values(shown, cells, *vis, res, "vertices",
+                                               DisplayRefinement{kDefaultDisplayTolerance}),
+              GatherOutcome::gathered);
+    const std::size_t split = (shown.leaves.size() - sol.leaves.size()) / 3;
+    ASSERT_GT(split, 0u);
+    ASSERT_LT(split, sol.leaves.size());
+    ASSERT_EQ(cells.size(), shown.leaves.size());
+    ASSERT_EQ(res.radiosity.size(), shown.leaves.size());
+    // An old vertex keeps its value (gathered where it lay among the old cells); every new
+    // one of the plane gets the formula through its leaf's links, as every vertex does.
+    const auto points = vertex_gather_points(cells);
+    ASSERT_EQ(res.point_radiosity.size(), points.size());
+    const auto old_points = vertex_gather_points(elements);
+    std::size_t kept = 0, added = 0;
+    for (std::size_t w = 0; w < points.size(); ++w) {
+        const auto r = cells.mesh().point(OpenMesh::VertexHandle(int(w)));
+        bool old = false;
+        for (std::size_t v = 0; v < old_points.size() && !old; ++v) {
+            const auto q = elements.mesh().point(OpenMesh::VertexHandle(int(v)));
+            if ((q - r).norm() > 1e-12 || points[w].surface != old_points[v].surface) continue;
+            EXPECT_EQ(res.point_radiosity[w].luminance(), plain.point_radiosity[v].luminance()) << "vertex " << w;
+            old = true;
+        }
+        kept += old ? 1 : 0;
+        if (old || points[w].surface != 0) continue;
+        const Rgb want = lambert(points[w].position);
+        for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(res.point_radiosity[w][c], want[c], 5e-4 * want[c] + 1e-12) << "vertex " << w;
+        ++added;
+    }
+    EXPECT_EQ(kept, old_points.size());
+    EXPECT_GT(added, 3 * split / 2);
+    // The cells tile the leaves with their values: the same power.
+    double before = 0.0, after = 0.0;
+    for (std::size_t k = 0; k < elements.size(); ++k)
+        before += elements.patches()[k].area * sol.result.radiosity[k].luminance();
+    for (std::size_t k = 0; k < cells.size(); ++k) after += cells.patches()[k].area * res.radiosity[k].luminance();
+    EXPECT_NEAR(after, before, 1e-12 * before);
+    const ProbeScore coarse = score_at_probes(elements, sol.result.radiosity, truth, plain.point_radiosity);
+    const ProbeScore fine = score_at_probes(cells, res.radiosity, truth, res.point_radiosity);
+    std::cout << "display refinement under a lamp: " << split << " of " << sol.leaves.size()
+              << " elements split; interpolated point data " << coarse.rms_smooth << " RMS (" << coarse.max_smooth
+              << " max) off Lambert's formula -> " << fine.rms_smooth << " (" << fine.max_smooth << ")\n";
+    EXPECT_EQ(fine.scored, truth.size());
+    EXPECT_LE(fine.rms_smooth, 0.7 * coarse.rms_smooth);
+    EXPECT_LE(fine.max_smooth, coarse.max_smooth);
+}

@@ -139,3 +139,44 @@ TEST(HierarchicalCornell, VerticesGatherThroughLinksWhoseRaysWereAllBlocked) {
     EXPECT_LE(all.rms_smooth, without.rms_smooth);
     EXPECT_LE(all.max_smooth, 0.95 * without.max_smooth);
 }
+
+// Display refinement (DisplayRefinement): linear interpolation between the vertices misses
+// where the light curves within an element (the tall block's penumbra on the back wall, the
+// corners); splitting those elements for display and gathering their new vertices brings the
+// point data closer to the probes, while the cells keep the solve's values and power.
+TEST(HierarchicalCornell, DisplayRefinementBringsThePointDataCloserToTheProbes) {
+    const PowerBoundBox& box = power_bound_box();
+    const ProbeScore plain = point_data_score(*box.solution);
+    HierarchicalSolution shown = *box.solution;
+    PatchMesh cells = *box.elements;
+    SolveResult res = shown.result;
+    ASSERT_EQ(gather_hierarchical_point_values(shown, cells, *box.element_visibility, res, "vertices",
+                                               DisplayRefinement{kDefaultDisplayTolerance}),
+              GatherOutcome::gathered);
+    const ProbeScore refined = score_at_probes(cells, res.radiosity, box.reference, res.point_radiosity);
+    const std::size_t added = shown.leaves.size() - box.solution->leaves.size();
+    std::cout << "display refinement: " << added / 3 << " of " << box.solution->leaves.size()
+              << " elements split, point data " << plain.rms_smooth << " RMS (" << plain.max_smooth << " max) -> "
+              << refined.rms_smooth << " (" << refined.max_smooth << "); patch values " << plain.rms_patch << " -> "
+              << refined.rms_patch << "\n";
+    // Each split leaf becomes four that tile it with its radiosity: the cells' power and the
+    // patch values at the probes are the solve's.
+    EXPECT_EQ(added % 3, 0u);
+    EXPECT_GT(added, 0u);
+    ASSERT_EQ(cells.size(), shown.leaves.size());
+    ASSERT_EQ(res.radiosity.size(), shown.leaves.size());
+    ASSERT_EQ(shown.links.size(), box.solution->links.size());
+    auto power = [](const PatchMesh& m, const std::vector<Rgb>& B) {
+        double p = 0.0;
+        for (std::size_t k = 0; k < m.size(); ++k) p += m.patches()[k].area * B[k].luminance();
+        return p;
+    };
+    EXPECT_NEAR(power(cells, res.radiosity), power(*box.elements, box.solution->result.radiosity),
+                1e-12 * power(*box.elements, box.solution->result.radiosity));
+    EXPECT_NEAR(refined.rms_patch, plain.rms_patch, 1e-12);
+    EXPECT_EQ(refined.scored, 128u);
+    // Measured at power epsilon 3e-6 (2,528 of the 7,959 elements split): 0.69% -> 0.54% RMS,
+    // 3.1% -> 2.1% at the worst probe; asserted at 15% less, beyond the gather's seed noise
+    // (0.04 points at this epsilon).
+    EXPECT_LE(refined.rms_smooth, 0.85 * plain.rms_smooth);
+}
