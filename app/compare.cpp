@@ -63,7 +63,7 @@ struct CompareCommand {
     std::vector<double> power_epsilons = {HierarchicalOptions{}.power_epsilon};
     // --meshes: hierarchical display refinement tolerances (DisplayRefinement), each a row of
     // every solve (0: off)
-    std::vector<double> display_tolerances = {kDefaultDisplayTolerance};
+    std::vector<double> display_tolerances = {0.0};
     std::string reference;  // --reference: a `bounce reference` CSV; empty: probes cached in `out`
     std::vector<std::size_t> patch_counts = {250, 500, 1000, 2000, 4000, 8000};  // --meshes: uniform patch meshes
     std::string gather = "vertices";  // point data of every run, as solve writes it

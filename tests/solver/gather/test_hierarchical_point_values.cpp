@@ -365,7 +365,7 @@ TEST(HierarchicalPointValues, DisplayRefinementInterpolatesLambertsFormulaCloser
     PatchMesh cells = elements;
     SolveResult res = sol.result;
     ASSERT_EQ(gather_hierarchical_point_values(shown, cells, *vis, res, "vertices",
-                                               DisplayRefinement{kDefaultDisplayTolerance}),
+                                               DisplayRefinement{kSuggestedDisplayTolerance}),
               GatherOutcome::gathered);
     const std::size_t split = (shown.leaves.size() - sol.leaves.size()) / 3;
     ASSERT_GT(split, 0u);

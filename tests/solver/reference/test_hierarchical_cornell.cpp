@@ -151,7 +151,7 @@ TEST(HierarchicalCornell, DisplayRefinementBringsThePointDataCloserToTheProbes) 
     PatchMesh cells = *box.elements;
     SolveResult res = shown.result;
     ASSERT_EQ(gather_hierarchical_point_values(shown, cells, *box.element_visibility, res, "vertices",
-                                               DisplayRefinement{kDefaultDisplayTolerance}),
+                                               DisplayRefinement{kSuggestedDisplayTolerance}),
               GatherOutcome::gathered);
     const ProbeScore refined = score_at_probes(cells, res.radiosity, box.reference, res.point_radiosity);
     const std::size_t added = shown.leaves.size() - box.solution->leaves.size();
