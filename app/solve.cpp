@@ -342,10 +342,10 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         solve_cmd
             ->add_option(
                 "--display-tolerance", solve->display.tolerance,
-                "hierarchical: split an element for display where the value gathered at its centre and the "
-                "mean of its vertices' differ by more than this share, and gather the new vertices (linear "
-                "interpolation, as ParaView shows the point data, misses curved light; 0.01 suits the Cornell box: "
-                "a fifth less error at the probes for a quarter more time); 0: off")
+                "hierarchical: split an element for display where linear interpolation between its vertices, as "
+                "ParaView shows the point data, would miss its centre value by more than this share, and "
+                "gather the new vertices (0.0025 suits the Cornell box: a quarter less error at the probes "
+                "for a quarter more time); 0: off")
             ->check(in_range(0.0, 1.0))
             ->capture_default_str();
     solve_cmd

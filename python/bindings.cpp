@@ -928,7 +928,7 @@ PYBIND11_MODULE(_bounce, m) {
           "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive, the hierarchical "
           "solver with power_epsilon 1e-5 unless given; target_error and max_patches are retired and refused; "
           "display_tolerance, hierarchical only, above 0 splits elements for display where linear interpolation of "
-          "the point data would miss the gathered light: 0.01 suits the Cornell box; 0 (off) unless given). "
+          "the point data would miss the gathered light: 0.0025 suits the Cornell box; 0 (off) unless given). "
           "Unset, tolerance is 1e-3 (hierarchical: 1e-6, the largest change of an element per iteration relative to "
           "the mean), max_iterations 100 N shots or 10000 sweeps (hierarchical: 1000), max_seconds none, sor 1, "
           "overshoot off, cache_mb 1024; max_seconds, sor, overshoot and cache_mb are refused with adaptive or "

@@ -54,19 +54,23 @@ GatherOutcome gather_hierarchical_point_values(
 /// were 0.31% RMS off the 0.1% probes, the same gather at the probes themselves 0.14%.
 struct DisplayRefinement {
     /// A leaf is split for display (its four children take its radiosity and gather through
-    /// its links) where its centre value and the mean of its vertices' values differ by more
-    /// than this share of the centre value; its new vertices are gathered. 0: off.
+    /// its links, and its new vertices are gathered) where the interpolation between its
+    /// vertices would miss its centre value by more than this share of it. The miss is
+    /// estimated from the centre values of the leaf and of those that share a vertex with it:
+    /// a quarter of the leaf's distance from their least-squares plane (a second difference).
+    /// 0: off.
     double tolerance = 0.0;
 };
 
 /// A tolerance that pays on the Cornell box (`bounce compare --meshes`, level 4, 0.1% probes):
-/// the point data at power epsilon 1e-6 went from 0.48% to 0.38% RMS in 1.45 s instead of
-/// 1.15 s (power epsilon 5e-7 alone: 0.44% in 1.79 s), at 3e-7 from 0.37% to 0.31%, without a
-/// power epsilon from 0.31% to 0.24%; at 1e-5 and coarser a finer power epsilon bought more
-/// for the time. Not the default: in the 10k office it split 70% of the elements (46k cells
-/// became 151k) and took `bounce solve` at power epsilon 1e-5 from 21 s to 35 s and 0.3 GB to
-/// 0.7 GB.
-inline constexpr double kSuggestedDisplayTolerance = 0.01;
+/// the point data at power epsilon 1e-6 went from 0.48% to 0.35% RMS in 1.52 s instead of
+/// 1.17 s (power epsilon 5e-7 alone: 0.44% in 1.85 s), at 3e-7 from 0.37% to 0.29%, without a
+/// power epsilon from 0.31% to 0.20%; at 1e-5 and coarser a finer power epsilon bought more
+/// for the time. Not the default: in the 10k office (power epsilon 1e-5) it split two thirds
+/// of the elements, took `bounce solve` from 21 s to 39 s and 0.3 GB to 0.6 GB, and its probes
+/// were no closer (compare: 2.22 against 2.33 RMS, errors there dominated by a few far-off
+/// probes).
+inline constexpr double kSuggestedDisplayTolerance = 0.0025;
 
 /// gather_hierarchical_point_values, then, in mode "vertices" with a positive tolerance,
 /// display refinement: splits leaves of `solution` (its tree, leaves, node radiosity and
