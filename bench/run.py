@@ -145,6 +145,16 @@ def main():
               {"threads": threads, "seconds": b["real_time"] / 1e3, "elements": int(b["elements"]),
                "steps": int(b["links"])})
 
+    plain = hr["BM_HierarchicalPointData/0/real_time"]
+    shown = hr["BM_HierarchicalPointData/1/real_time"]
+    if shown["vertices"] <= plain["vertices"]:
+        raise SystemExit("bench: display refinement gathered no new vertices")
+    for b, what in ((plain, "without"), (shown, "with")):
+        micro(f"hierarchical Cornell point data {what} display refinement ({int(b['elements'])} elements, "
+              f"{int(b['cells'])} cells, {int(b['vertices'])} vertices; {shown['real_time'] / plain['real_time']:.2f}x)",
+              b["real_time"] / 1e3, "s", int(b["elements"]),
+              {"threads": os.cpu_count(), "seconds": b["real_time"] / 1e3, "elements": int(b["cells"])})
+
     ref = run_gbench(os.path.join(a.build, "bench", "bench_reference"), a.short, micro_patches)
     for threads in (1, 2):
         b = ref[f"BM_ReferencePaths/{threads}/real_time"]
