@@ -216,18 +216,24 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
                 setting << "link epsilon " << eps;
                 if (power_eps > 0) setting << " power epsilon " << power_eps;
                 if (display > 0) setting << " display " << display;
-                HierarchicalSolution shown = s;
-                PatchMesh cells = elements;
+                // (The elements column stays the solve's; display refinement adds cells.)
                 Row r{"hierarchical", setting.str(), s.leaves.size(), s.links.size(), solve_seconds, fine, {}, false};
                 SolveResult g;
-                g.radiosity = shown.result.radiosity;
-                g.irradiance = shown.result.irradiance;
-                if (c.gather != "none") {
-                    r.gathered =
-                        gather_point_values(shown, cells, *visibility, g, "vertices", DisplayRefinement{display}, true);
-                    r.seconds += g.seconds;
+                g.radiosity = s.result.radiosity;
+                g.irradiance = s.result.irradiance;
+                if (display > 0) {  // a copy to refine, the solve kept for the next tolerance
+                    HierarchicalSolution shown = s;
+                    PatchMesh cells = elements;
+                    if (c.gather != "none")
+                        r.gathered = gather_point_values(shown, cells, *visibility, g, "vertices",
+                                                         DisplayRefinement{display}, true);
+                    r.probe = score_at_probes(cells, g.radiosity, probes, g.point_radiosity);
+                } else {
+                    if (c.gather != "none")
+                        r.gathered = gather_point_values(s, elements, *visibility, g, "vertices", true);
+                    r.probe = score_at_probes(elements, g.radiosity, probes, g.point_radiosity);
                 }
-                r.probe = score_at_probes(cells, g.radiosity, probes, g.point_radiosity);
+                r.seconds += g.seconds;
                 rows.push_back(std::move(r));
             }
         }

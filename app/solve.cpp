@@ -176,6 +176,11 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
                                     "--adaptive is the hierarchical solver refining on power; set --power-epsilon "
                                     "(with --adaptive " +
                                     number_text(kAdaptivePowerEpsilon) + " unless given)");
+    if (s.display.tolerance > 0 && s.gather != "vertices")
+        throw std::invalid_argument(
+            "--display-tolerance refines the point data gathered at the vertices: it needs "
+            "--gather vertices (got " +
+            s.gather + ")");
     if (s.adaptive || s.solver == "hierarchical") return run_solve_elements(o, s, out);
     if (s.display_given && s.display_given->count() > 0)
         throw std::invalid_argument("--display-tolerance applies to the hierarchical solver (and --adaptive)");

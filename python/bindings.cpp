@@ -392,6 +392,11 @@ std::shared_ptr<SolutionData> solve(
         throw InputError("display_tolerance applies to the hierarchical solver (and adaptive)");
     const DisplayRefinement display{display_tolerance.value_or(0.0)};
     check_range("display_tolerance", display.tolerance, 0.0, 1.0);
+    if (display.tolerance > 0 && gather != "vertices")
+        throw InputError(
+            "display_tolerance refines the point data gathered at the vertices: it needs gather "
+            "'vertices' (got '" +
+            gather + "')");
     if (elements && (residuals || reference))
         throw InputError("residuals and reference apply to the patch solvers, not to adaptive or hierarchical");
     // As the command line: tolerance and max_iterations, given, stop the hierarchical iterations

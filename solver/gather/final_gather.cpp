@@ -25,17 +25,18 @@ namespace {
 /// What the gather reads of a source at every point, in one place (a Patch is 216 bytes over
 /// four cache lines, and a point of a hierarchy's gather reads about a thousand sources
 /// scattered over the tree): its plane, bounding sphere, and when to go down to its children.
-struct SourceCard {
-    glm::dvec3 centre{0.0};
-    glm::dvec3 normal{0.0};
-    double offset = 0.0;  // dot(normal, a vertex): height(x) = dot(normal, x) - offset
-    double radius = 0.0;  // circumradius
-    /// GatherSources::descend's test min(1, r / d) spread > descend L, solved for the distance
-    /// d: the children are taken when d < descend_within (0: never).
-    double descend_within = 0.0;
-    double area = 0.0;
+struct alignas(32) SourceCard {
     int surface = 0;
     bool dark = false;  // sends nothing (B = 0)
+    glm::dvec3 normal{0.0};
+    double offset = 0.0;  // dot(normal, a vertex): height(x) = dot(normal, x) - offset
+    glm::dvec3 centre{0.0};
+    double radius = 0.0;  // circumradius
+    /// GatherSources::descend's test min(1, r / d) spread > descend L, solved for the distance
+    /// d: the children are taken when d < descend_within (0: never; infinity, where L is 0 and
+    /// the leaves below differ: always).
+    double descend_within = 0.0;
+    double area = 0.0;
 };
 
 /// Unoccluded point-to-patch factors: Lambert's formula, or for well-separated patches wholly
@@ -199,7 +200,7 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
                 continue;
             }
             const std::size_t e = entry++;
-            // The sources are scattered over the tree's nodes: fetch the next one's patch while
+            // The sources are scattered over the tree's nodes: fetch the next one's card while
             // this one is taken (its first touch was the gather's largest stall).
             if (sources && entry < end) {
                 const char* next = reinterpret_cast<const char*>(&cards[sources->patches[entry]]);

@@ -330,10 +330,13 @@ std::vector<double> interpolation_error(const PatchMesh& elements, std::span<con
 
 /// Display refinement (DisplayRefinement): splits, for display only, each leaf whose
 /// interpolation_error passes the tolerance's share of its centre value, and gathers the
-/// vertices that adds. (Against the mean of the leaf's own vertices, the centre value, a Jacobi
-/// step behind them, flagged twice the leaves for less: on the box at 1e-6, 5.2k new vertices
-/// for 0.39% where the fit's 5.7k give 0.35%.) A split leaf's children carry its radiosity (cell data), links and
-/// cluster irradiance; only the point data gains. Returns the number of leaves split.
+/// vertices that adds. (The centre value against the mean of the leaf's own vertices, a Jacobi
+/// step ahead of it, flagged more leaves for less: on the box at 1e-6, that test at tolerance
+/// 0.01 split 2,006 leaves, 5.2k new vertices, for 0.39%, the fit at 0.0025 2,269 leaves, 5.7k
+/// vertices, for 0.35%; at the same 0.0025 the old test split 5,947.) A split leaf's children
+/// carry its radiosity (cell data) and cluster irradiance and gather through its links (their
+/// rows are empty and chained to it); only the point data gains. Returns the number of leaves
+/// split: none when the new vertices' pairs would pass kMaxGatherPairs.
 std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, SolveResult& res, VertexStage stage,
                            std::span<const Rgb> centre_values, const Visibility& visibility,
                            const GatherOptions& options, const DisplayRefinement& display,
@@ -341,6 +344,8 @@ std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, Solve
                            const std::function<void(std::size_t, std::size_t)>& progress) {
     ElementTree& tree = sol.tree;
     const std::size_t leaves = sol.leaves.size();
+    if (res.radiosity.size() != leaves)
+        throw std::invalid_argument("display refinement: the result must hold one radiosity per leaf");
     const std::vector<double> error = interpolation_error(elements, centre_values);
     std::vector<std::uint8_t> split(leaves, 0);
     std::size_t count = 0;
@@ -350,6 +355,15 @@ std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, Solve
             ++count;
         }
     if (count == 0) return 0;
+    {
+        // Each split leaf adds at most five vertices (its edges' midpoints and its centre),
+        // each gathering over the leaf's path of links.
+        const std::vector<std::size_t> path = path_link_counts(sol, stage.links);
+        double pairs = 0.0;
+        for (std::size_t k = 0; k < leaves; ++k)
+            if (split[k]) pairs += 5.0 * double(path[sol.leaves[k]]);
+        if (pairs > kMaxGatherPairs) return 0;
+    }
     // The old mesh's values by position, before the tree changes.
     glm::dvec3 lo(1e300), hi(-1e300);
     for (const Patch& p : tree.roots())
@@ -394,10 +408,14 @@ std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, Solve
         for (std::size_t k = 0; k < from.size(); ++k) out[k] = values[from[k]];
         values = std::move(out);
     };
-    spread_per_leaf(res.radiosity);
-    spread_per_leaf(res.irradiance);
-    spread_per_leaf(res.unshot);
-    spread_per_leaf(res.display);
+    const auto spread_result = [&](SolveResult& r) {
+        spread_per_leaf(r.radiosity);
+        spread_per_leaf(r.irradiance);
+        spread_per_leaf(r.unshot);
+        spread_per_leaf(r.display);
+    };
+    spread_result(res);
+    if (&res != &sol.result) spread_result(sol.result);
     spread_per_leaf(sol.cluster_irradiance);
     sol.leaves = std::move(new_leaves);
     // The new mesh: its vertices found in the old keep their values, the rest are gathered.
@@ -410,7 +428,8 @@ std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, Solve
         // An old vertex keeps its value, gathered a tenth of the way towards the centres of
         // the cells around it then. Beside a split leaf those are nearer now; gathering such
         // vertices again, where they now lie, cost a fifth more of display refinement's time
-        // for no better point data on the Cornell box (level 4, 3e-7: 0.335% against 0.313%).
+        // for no better point data on the Cornell box (level 4, 3e-7: 0.335% gathered again,
+        // 0.313% kept).
         if (const Rgb* known = old_values.find(points[v].surface, vertex_position(next, v))) {
             values[v] = *known;
             continue;
@@ -484,6 +503,7 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
             for (std::size_t k = 0; k < centre_of.size(); ++k)
                 centre_of[k] = centres.empty() ? solution.node_radiosity[solution.leaves[k]] : centres[k];
             std::vector<Rgb> radiosity = B;
+            // `at` points into plan.links and sources, which refine_display grows: not used after.
             refine_display(*refine->solution, *refine->elements, res, {plan.links, sources, radiosity}, centre_of,
                            visibility, options, refine->options, cancel, [&progress](std::size_t d, std::size_t t) {
                                if (progress) progress("gathering: display refinement", d, t);

@@ -75,9 +75,11 @@ inline constexpr double kSuggestedDisplayTolerance = 0.0025;
 /// gather_hierarchical_point_values, then, in mode "vertices" with a positive tolerance,
 /// display refinement: splits leaves of `solution` (its tree, leaves, node radiosity and
 /// cluster irradiance grow; the links stay), replaces `elements` by the new leaves' conforming
-/// mesh and spreads res's per-leaf arrays (radiosity, irradiance) to the new leaves; the old
-/// vertices keep their values. The elements the solve refined are unchanged in number of
-/// links and in the energy account: a split leaf's children tile it with its radiosity.
+/// mesh and spreads the per-leaf arrays of `res` and of solution.result (radiosity,
+/// irradiance, unshot, display) to the new leaves; `res` must hold one radiosity per leaf. The
+/// old vertices keep their values. The links and the energy account are unchanged: a split
+/// leaf's children tile it with its radiosity. No leaf is split when the new vertices would
+/// take more than kMaxGatherPairs vertex-source pairs.
 GatherOutcome gather_hierarchical_point_values(
     HierarchicalSolution& solution, PatchMesh& elements, const Visibility& visibility, SolveResult& res,
     const std::string& mode, const DisplayRefinement& display, const std::atomic<bool>* cancel = nullptr,

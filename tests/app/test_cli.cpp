@@ -374,6 +374,9 @@ TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
         {"--sor 3 --solver gauss-seidel", "error: --sor: out of range, got 3 (expected 0 to 2)"},
         {"--solver hierarchical --power-epsilon nan", "error: --power-epsilon:"},  // a share of the power
         {"--solver hierarchical --power-epsilon 2", "error: --power-epsilon: out of range, got 2"},
+        {"--solver hierarchical --display-tolerance -1", "error: --display-tolerance: out of range, got -1"},
+        {"--solver hierarchical --display-tolerance 0.01 --gather none", "it needs --gather vertices (got none)"},
+        {"--display-tolerance 0.01", "--display-tolerance applies to the hierarchical solver"},
         {"--max-area 1e-6", "1.93745e+12 patches"},  // ~10^12 patches
         {"--hemicube-res 1000000 --form-factors hemicube", "--hemicube-res"},
         {"--form-factors hemicube --hemicube-res 4096 --max-memory 100", "hemicube buffers"},
@@ -445,6 +448,19 @@ TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
     // Clustering is on unless --no-clustering: the summary counts the clusters.
     EXPECT_NE(h.out.find(" clusters)"), std::string::npos) << h.out;
     EXPECT_EQ(h.out.find(" 0 clusters)"), std::string::npos) << h.out;
+    // Display refinement adds cells (the summary says how many) and the file records it.
+    const auto shown = bounce_run("solve --solver hierarchical --max-level 2 --display-tolerance 0.0025 --ascii -o " +
+                                  (dir / "d.vtu").string());
+    ASSERT_EQ(shown.exit_code, 0) << shown.err;
+    EXPECT_NE(shown.out.find("display refinement: "), std::string::npos) << shown.out;
+    const auto plain = bounce_run("solve --solver hierarchical --max-level 2 --ascii -o " + (dir / "p.vtu").string());
+    ASSERT_EQ(plain.exit_code, 0) << plain.err;
+    EXPECT_EQ(plain.out.find("display refinement: "), std::string::npos) << plain.out;
+    auto cells = [](const std::string& vtu) {
+        const auto at = vtu.find("NumberOfCells=\"");
+        return at == std::string::npos ? -1L : std::stol(vtu.substr(at + 15));
+    };
+    EXPECT_GT(cells(slurp(dir / "d.vtu")), cells(slurp(dir / "p.vtu")));
     const auto flat = bounce_run("solve --solver hierarchical --no-clustering --max-level 1 --gather none -o " +
                                  (dir / "f.vtu").string());
     ASSERT_EQ(flat.exit_code, 0) << flat.err;

@@ -157,3 +157,26 @@ def test_hierarchical_stops_at_a_given_tolerance_or_iteration_count(run_cli, tmp
     cli = meshio.read(out)
     assert int(np.asarray(cli.field_data["steps"]).ravel()[0]) == capped.steps
     assert_same(capped.radiosity, cell_array(cli, "radiosity"), "radiosity after two iterations")
+
+
+def test_display_refinement_adds_cells_like_the_command_line(run_cli, tmp_path):
+    # display_tolerance is --display-tolerance: the same cells and point data as the file.
+    scene = bounce.load("cornell", subdivide=False)
+    sol = bounce.solve(scene, solver="hierarchical", max_level=1, display_tolerance=0.0025)
+    plain = bounce.solve(scene, solver="hierarchical", max_level=1)
+    assert len(sol.patches) > len(plain.patches)
+    assert len(sol.radiosity) == len(sol.patches)
+    # The cells tile the same elements with their values: the same power.
+    assert (sol.patches.area * sol.radiosity[:, 1]).sum() == pytest.approx(
+        (plain.patches.area * plain.radiosity[:, 1]).sum(), rel=1e-12)
+    out = tmp_path / "display.vtu"
+    code, _, err = run_cli("solve", "--no-subdivide", "--solver", "hierarchical", "--max-level", 1,
+                           "--display-tolerance", 0.0025, "--meshio", "-q", "-o", out)
+    assert code == (0 if sol.converged else 3), err
+    cli = meshio.read(out)
+    assert_same(sol.radiosity, cell_array(cli, "radiosity"), "radiosity")
+    assert_same(sol.point_radiosity, cli.point_data["radiosity"], "point radiosity")
+    with pytest.raises(ValueError, match="display_tolerance refines the point data gathered at the vertices"):
+        bounce.solve(scene, solver="hierarchical", max_level=1, display_tolerance=0.0025, gather="none")
+    with pytest.raises(ValueError, match="display_tolerance applies to the hierarchical solver"):
+        bounce.solve(scene, display_tolerance=0.0025)

@@ -29,7 +29,6 @@ def series(row):
     return row["method"] + (" display" if " display " in row["setting"] else "")
 
 
-
 for k, (method, marker, name) in enumerate(methods):
     pts = sorted((int(r["elements"]), float(r["seconds"]), float(r["probe_rms_smooth"]) * 100,
                   float(r["probe_rms_patch"]) * 100, r.get("point_data", "averaged") == "gathered")

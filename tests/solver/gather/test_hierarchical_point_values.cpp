@@ -372,6 +372,8 @@ TEST(HierarchicalPointValues, DisplayRefinementInterpolatesLambertsFormulaCloser
     ASSERT_LT(split, sol.leaves.size());
     ASSERT_EQ(cells.size(), shown.leaves.size());
     ASSERT_EQ(res.radiosity.size(), shown.leaves.size());
+    ASSERT_EQ(shown.result.radiosity.size(), shown.leaves.size());  // the solution's own result follows
+    ASSERT_EQ(shown.node_radiosity.size(), shown.tree.size());
     // An old vertex keeps its value (gathered where it lay among the old cells); every new
     // one of the plane gets the formula through its leaf's links, as every vertex does.
     const auto points = vertex_gather_points(cells);
