@@ -63,8 +63,8 @@ struct DisplayRefinement {
 };
 
 /// A tolerance that pays on the Cornell box (`bounce compare --meshes`, level 4, 0.1% probes):
-/// the point data at power epsilon 1e-6 went from 0.48% to 0.35% RMS in 1.52 s instead of
-/// 1.17 s (power epsilon 5e-7 alone: 0.44% in 1.85 s), at 3e-7 from 0.37% to 0.29%, without a
+/// the point data at power epsilon 1e-6 went from 0.48% to 0.35% RMS in 1.58 s instead of
+/// 1.07 s (power epsilon 5e-7 alone: 0.44% in 1.94 s), at 3e-7 from 0.37% to 0.29%, without a
 /// power epsilon from 0.31% to 0.20%; at 1e-5 and coarser a finer power epsilon bought more
 /// for the time. Not the default: in the 10k office (power epsilon 1e-5) it split two thirds
 /// of the elements, took `bounce solve` from 21 s to 39 s and 0.3 GB to 0.6 GB, and its probes
