@@ -122,14 +122,16 @@ std::uint32_t ElementTree::locate(std::uint32_t r, const glm::dvec2& uv) const {
     return i;
 }
 
-PatchMesh ElementTree::conforming_mesh(const std::vector<std::uint32_t>& leaves) const {
-    // Weld points within each surface: corners of neighbouring roots are computed from
-    // different roots' corners and may differ in the last bits.
+double ElementTree::weld() const {
     glm::dvec3 lo(1e300), hi(-1e300);
     for (const auto& p : m_roots)
         for (int k = 0; k < p.vertex_count; ++k) lo = glm::min(lo, p.vertices[k]), hi = glm::max(hi, p.vertices[k]);
-    const double diag = m_roots.empty() ? 1.0 : glm::length(hi - lo);
-    const double weld = 1e-9 * diag;
+    return 1e-9 * (m_roots.empty() ? 1.0 : glm::length(hi - lo));
+}
+
+PatchMesh ElementTree::conforming_mesh(const std::vector<std::uint32_t>& leaves) const {
+    // Weld points within each surface (weld()).
+    const double weld = this->weld();
     using Cell = std::tuple<int, std::int64_t, std::int64_t, std::int64_t>;
     std::map<Cell, std::vector<std::uint32_t>> weld_grid;
     std::vector<glm::dvec3> points;

@@ -57,6 +57,10 @@ public:
     /// mesh is conforming and point data interpolates without cracks. Faces are in the
     /// order of `leaves`; PatchMesh::patches() are the leaves' geometry.
     PatchMesh conforming_mesh(const std::vector<std::uint32_t>& leaves) const;
+    /// The distance within which conforming_mesh welds points of one surface into one vertex:
+    /// 1e-9 of the diagonal of the roots' box (corners of neighbouring roots are computed from
+    /// different roots' corners and may differ in the last bits).
+    double weld() const;
     /// Per node: max - min of the luminance of `values` (one per node) over the leaves under
     /// it, 0 at a leaf: how much a node's mean hides.
     std::vector<double> leaf_luminance_spread(std::span<const Rgb> values) const;

@@ -66,6 +66,11 @@ public:
     const OpenPatchMesh& mesh() const { return m_mesh; }
     /// Vertex indices of patch p, in order (3 or 4).
     std::vector<int> patch_vertex_indices(std::size_t p) const;
+    /// The position of vertex v.
+    glm::dvec3 vertex_position(std::size_t v) const {
+        const auto q = m_mesh.point(OpenMesh::VertexHandle(int(v)));
+        return {q[0], q[1], q[2]};
+    }
     /// With element_split k > 1 the faces are elements: each patch of the same scene meshed
     /// with k = 1 is cut into k x k of them (exactly: sub-grids of its bilinear or
     /// barycentric grid). parents()[e] is that patch's index in the k = 1 mesh; identity for k = 1.

@@ -294,8 +294,7 @@ std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {
         }
     }
     for (std::size_t v = 0; v < out.size(); ++v) {
-        const auto q = om.point(OpenMesh::VertexHandle(int(v)));
-        const glm::dvec3 x(q[0], q[1], q[2]);
+        const glm::dvec3 x = mesh.vertex_position(v);
         out[v].position = count[v] == 0 ? x : x + kNudge * (towards[v] / count[v] - x);
     }
     // Where the patches around a vertex fill more than a half-turn (a hole's corner, a
@@ -307,8 +306,7 @@ std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {
                 out[std::size_t(v)].cell = int(i);
     for (std::size_t v = 0; v < out.size(); ++v) {
         if (out[v].cell >= 0 || count[v] == 0) continue;
-        const auto q = om.point(OpenMesh::VertexHandle(int(v)));
-        const glm::dvec3 x(q[0], q[1], q[2]);
+        const glm::dvec3 x = mesh.vertex_position(v);
         out[v].position = x + kNudge * (patches[last_patch[v]].centre - x);
         out[v].cell = int(last_patch[v]);
     }

@@ -258,12 +258,6 @@ private:
     std::unordered_map<Key, std::vector<Entry>, Hash> m_grid;
 };
 
-/// A mesh vertex's position (as OpenMesh holds it).
-glm::dvec3 vertex_position(const PatchMesh& mesh, std::size_t v) {
-    const auto q = mesh.mesh().point(OpenMesh::VertexHandle(int(v)));
-    return {q[0], q[1], q[2]};
-}
-
 /// Everything the vertex stage gathers through, kept so display refinement can gather more
 /// points the same way: the per-node rows (extended by empty rows for display leaves), their
 /// marks and parents, and the radiosity the vertices gather from.
@@ -337,9 +331,9 @@ std::vector<double> interpolation_error(const PatchMesh& elements, std::span<con
 /// carry its radiosity (cell data) and cluster irradiance and gather through its links (their
 /// rows are empty and chained to it); only the point data gains. Returns the number of leaves
 /// split: none when the new vertices' pairs would pass kMaxGatherPairs.
-std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, SolveResult& res, VertexStage stage,
-                           std::span<const Rgb> centre_values, const Visibility& visibility,
-                           const GatherOptions& options, const DisplayRefinement& display,
+std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, std::span<const GatherPoint> old_points,
+                           SolveResult& res, VertexStage stage, std::span<const Rgb> centre_values,
+                           const Visibility& visibility, const GatherOptions& options, const DisplayRefinement& display,
                            const std::atomic<bool>* cancel,
                            const std::function<void(std::size_t, std::size_t)>& progress) {
     ElementTree& tree = sol.tree;
@@ -364,19 +358,11 @@ std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, Solve
             if (split[k]) pairs += 5.0 * double(path[sol.leaves[k]]);
         if (pairs > kMaxGatherPairs) return 0;
     }
-    // The old mesh's values by position, before the tree changes.
-    glm::dvec3 lo(1e300), hi(-1e300);
-    for (const Patch& p : tree.roots())
-        for (int k = 0; k < p.vertex_count; ++k) lo = glm::min(lo, p.vertices[k]), hi = glm::max(hi, p.vertices[k]);
-    PointValues old_values(1e-9 * glm::length(hi - lo));
-    {
-        std::vector<int> surface(elements.mesh().n_vertices(), -1);
-        for (std::size_t k = 0; k < leaves; ++k)
-            for (const int v : elements.patch_vertex_indices(k))
-                surface[std::size_t(v)] = elements.patches()[k].surface;
-        for (std::size_t v = 0; v < surface.size(); ++v)
-            old_values.add(surface[v], {vertex_position(elements, v), res.point_radiosity[v]});
-    }
+    // The old mesh's values by position (and surface, as the gather points have it), before
+    // the tree changes.
+    PointValues old_values(tree.weld());
+    for (std::size_t v = 0; v < old_points.size(); ++v)
+        old_values.add(old_points[v].surface, {elements.vertex_position(v), res.point_radiosity[v]});
     // Split, children in their parent's place: per-leaf arrays follow.
     std::vector<std::uint32_t> new_leaves;
     std::vector<std::size_t> from;  // per new leaf: the old leaf it lies in
@@ -430,7 +416,7 @@ std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, Solve
         // vertices again, where they now lie, cost a fifth more of display refinement's time
         // for no better point data on the Cornell box (level 4, 3e-7, with the vertex-mean
         // test at 0.01 the plane fit replaced: 0.335% gathered again, 0.313% kept).
-        if (const Rgb* known = old_values.find(points[v].surface, vertex_position(next, v))) {
+        if (const Rgb* known = old_values.find(points[v].surface, next.vertex_position(v))) {
             values[v] = *known;
             continue;
         }
@@ -502,10 +488,12 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
             std::vector<Rgb> centre_of(solution.leaves.size());
             for (std::size_t k = 0; k < centre_of.size(); ++k)
                 centre_of[k] = centres.empty() ? solution.node_radiosity[solution.leaves[k]] : centres[k];
-            std::vector<Rgb> radiosity = B;
+            // B (regathered, or a copy of the solution's) grows with the display leaves.
+            std::vector<Rgb> radiosity = regathered.empty() ? solution.node_radiosity : std::move(regathered);
             // `at` points into plan.links and sources, which refine_display grows: not used after.
-            refine_display(*refine->solution, *refine->elements, res, {plan.links, sources, radiosity}, centre_of,
-                           visibility, options, refine->options, cancel, [&progress](std::size_t d, std::size_t t) {
+            refine_display(*refine->solution, *refine->elements, plan.vertex_points, res,
+                           {plan.links, sources, radiosity}, centre_of, visibility, options, refine->options, cancel,
+                           [&progress](std::size_t d, std::size_t t) {
                                if (progress) progress("gathering: display refinement", d, t);
                            });
         },

@@ -11,11 +11,6 @@ namespace bounce {
 
 namespace {
 
-glm::dvec3 point_of(const PatchMesh& mesh, int v) {
-    const auto p = mesh.mesh().point(OpenMesh::VertexHandle(v));
-    return {p[0], p[1], p[2]};
-}
-
 /// The patch whose polygon holds x (projected on its plane), with normal close to n; -1 if none.
 int patch_at(const PatchMesh& mesh, const glm::dvec3& x, const glm::dvec3& n, double height_tolerance) {
     const auto& patches = mesh.patches();
@@ -47,11 +42,12 @@ Rgb interpolate(const PatchMesh& mesh, std::size_t i, const glm::dvec3& x, const
     const Patch& p = mesh.patches()[i];
     const glm::dvec3 q = x - p.height(x) * p.normal;
     const auto ids = mesh.patch_vertex_indices(i);
-    const glm::dvec3 a = point_of(mesh, ids[0]);
+    const glm::dvec3 a = mesh.vertex_position(std::size_t(ids[0]));
     Rgb nearest = at_vertex[std::size_t(ids[0])];
     double best_outside = std::numeric_limits<double>::infinity();
     for (std::size_t k = 1; k + 1 < ids.size(); ++k) {
-        const glm::dvec3 b = point_of(mesh, ids[k]), c = point_of(mesh, ids[k + 1]);
+        const glm::dvec3 b = mesh.vertex_position(std::size_t(ids[k])),
+                         c = mesh.vertex_position(std::size_t(ids[k + 1]));
         const double area = glm::dot(glm::cross(b - a, c - a), p.normal);
         if (!(area > 0)) continue;
         const double wa = glm::dot(glm::cross(b - q, c - q), p.normal) / area;
