@@ -167,6 +167,17 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
     if (tree.empty()) return out;
     const double diag = glm::length(hi - lo);
     const double tol = 5e-4 * diag;  // "resting on": a gap below this is contact
+    // A surface hung parallel in front of another, its back towards it (a lamp just below a
+    // ceiling), hides the part behind it when the gap is small against its own size: the gap
+    // lets light in only within a few gap widths of the outline (a cosine ray at 75 degrees runs
+    // 3.9 gaps sideways), and a patch straddling the outline would average that dark part into
+    // the lit ceiling beside it. kNearGap bounds the gap against the cover's side, sqrt(area);
+    // the enclosed test below is what decides (at points half-way to the outline, so 1/20 of
+    // the side keeps them about 5 gaps in).
+    constexpr double kNearGap = 0.05;
+    double largest_side = 0.0;
+    for (const SurfaceFrame& f : frame) largest_side = std::max(largest_side, std::sqrt(f.area));
+    const double reach = std::max(tol, std::min(kNearGap * largest_side, 0.05 * diag));
 
     // Enclosed: every ray from just above x meets the back of some surface first.
     auto enclosed = [&](const V& x, const V& normal) {
@@ -186,6 +197,9 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
     for (std::size_t s = range.begin(); s != range.end(); ++s) {
         std::vector<CoveredRegion>& out = found[s];
         const SurfaceFrame& S = frame[s];
+        const int sm = scene.surfaces[s].material;
+        const bool emits =
+            sm >= 0 && std::size_t(sm) < scene.materials.size() && scene.materials[std::size_t(sm)].emission.max() > 0;
         if (!(S.area > 0)) continue;
         const auto& spoly = scene.surfaces[s].vertices;
         auto height = [&](const V& p) { return glm::dot(S.normal, p - S.origin); };
@@ -199,7 +213,8 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
             slo = glm::min(slo, v);
             shi = glm::max(shi, v);
         }
-        const std::vector<int> others = tree.in_box(slo - V(tol), shi + V(tol));
+        const std::vector<int> others = tree.in_box(slo - V(reach), shi + V(reach));
+        std::vector<double> hung;  // per candidate: the gap of a parallel cover in front (0: a contact)
 
         for (const int t : others) {
             if (t == int(s) || !(frame[std::size_t(t)].area > 0)) continue;
@@ -209,14 +224,30 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
                 hmin = std::min(hmin, height(v));
                 hmax = std::max(hmax, height(v));
             }
+            const bool same_facing = glm::dot(frame[std::size_t(t)].normal, S.normal) > 0.999;
+            // An emitter is never hidden by a surface hung at a gap in front of it: that is a
+            // scene wound the wrong way (the lamp facing the ceiling's back), which the winding
+            // check names, not a lamp in a slot.
+            if (hmin > tol && same_facing && hmax - hmin <= tol && !emits &&
+                hmin <= kNearGap * std::sqrt(frame[std::size_t(t)].area)) {
+                // Hung in front at a small gap, its back towards this surface.
+                std::vector<V> c;
+                for (const auto& v : tpoly) c.push_back(project(v));
+                candidates.push_back(std::move(c));
+                hung.resize(candidates.size(), 0.0);
+                hung.back() = 0.5 * (hmin + hmax);
+                continue;
+            }
             if (hmin > tol || hmax < -tol) continue;  // apart
             if (hmin >= -tol && hmax <= tol) {
                 // Flush with this surface: it covers it when it faces the same way and lies in
                 // front (its back towards this surface's front), like a lamp under a ceiling.
-                if (glm::dot(frame[std::size_t(t)].normal, S.normal) > 0.999 && hmin + hmax >= 0) {
+                if (same_facing && hmin + hmax >= 0) {
                     std::vector<V> c;
                     for (const auto& v : tpoly) c.push_back(project(v));
                     candidates.push_back(std::move(c));
+                    hung.resize(candidates.size(), 0.0);
+                    hung.back() = 0.5 * (hmin + hmax);
                 }
                 continue;
             }
@@ -274,13 +305,23 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
             if (closed) candidates.push_back(std::move(loop));
         }
 
-        for (auto& c : candidates) {
+        hung.resize(candidates.size(), 0.0);
+        for (std::size_t ci = 0; ci < candidates.size(); ++ci) {
+            auto& c = candidates[ci];
             if (c.size() < 3) continue;
             if (glm::dot(newell_normal(c), S.normal) < 0) std::reverse(c.begin(), c.end());
             if (!(area_of(c) > tol * tol)) continue;
             const auto tri = triangulate_polygon(c);
             bool covered = !tri.empty();
-            for (std::size_t k = 0; k < tri.size() && k < 4 && covered; ++k)
+            if (hung[ci] > tol) {
+                // A hung cover is convex in practice (a lamp panel); its centre and the points
+                // half-way to its corners must all be enclosed.
+                const V centre = polygon_centroid(c);
+                covered = covered && enclosed(centre, S.normal);
+                for (std::size_t k = 0; k < c.size() && covered; ++k)
+                    covered = enclosed(0.5 * (centre + c[k]), S.normal);
+            }
+            for (std::size_t k = 0; k < tri.size() && k < 4 && covered && !(hung[ci] > tol); ++k)
                 covered = enclosed((c[tri[k][0]] + c[tri[k][1]] + c[tri[k][2]]) / 3.0, S.normal);
             if (!covered) continue;
             // Convex loops stay whole; others go as their (convex) triangles.
@@ -289,9 +330,9 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
                 convex = glm::dot(glm::cross(c[(k + 1) % c.size()] - c[k], c[(k + 2) % c.size()] - c[(k + 1) % c.size()]),
                                   S.normal) >= -1e-12 * diag * diag;
             if (convex) {
-                out.push_back({int(s), c});
+                out.push_back({int(s), c, hung[ci]});
             } else {
-                for (const auto& t : tri) out.push_back({int(s), {c[t[0]], c[t[1]], c[t[2]]}});
+                for (const auto& t : tri) out.push_back({int(s), {c[t[0]], c[t[1]], c[t[2]]}, hung[ci]});
             }
         }
     }

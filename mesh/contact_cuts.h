@@ -16,11 +16,12 @@ namespace bounce {
 
 /// Finds the covered regions of every surface. Candidates are closed loops of the segments in
 /// which other surfaces touch or cross the surface's plane (within 5e-4 of the scene's
-/// diagonal), and the outlines of surfaces lying flush in front of it with the same facing (their
-/// backs towards it). A candidate counts only if it is enclosed: from points inside it every one
-/// of 64 cosine-distributed rays meets a back face (CGAL AABB tree), so a loop that light can
-/// enter (the legs of a table, an open frame) never removes anything. Non-convex loops come
-/// back as triangles.
+/// diagonal), and the outlines of surfaces lying parallel in front of it with the same facing
+/// (their backs towards it), flush or hung at a gap of at most 1/20 of their side (a lamp panel
+/// a centimetre below a ceiling; CoveredRegion::gap records it). A candidate counts only if it
+/// is enclosed: from points inside it every one of 64 cosine-distributed rays meets a back face
+/// (CGAL AABB tree), so a loop that light can enter (the legs of a table, an open frame) never
+/// removes anything. Non-convex loops come back as triangles.
 std::vector<CoveredRegion> find_covered_regions(const Scene& scene);
 
 /// Convex polygon `poly` (in the plane with unit normal `normal`) minus convex polygon `hole`:

@@ -239,6 +239,16 @@ MeshPlan plan_mesh(const Scene& scene, const MeshingOptions& options) {
     return plan;
 }
 
+/// Whether p lies within `tol` of an edge of polygon `poly`.
+bool on_outline(const std::vector<glm::dvec3>& poly, const glm::dvec3& p, double tol) {
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+        const glm::dvec3 a = poly[k], d = poly[(k + 1) % poly.size()] - a;
+        const double t = std::clamp(glm::dot(p - a, d) / glm::dot(d, d), 0.0, 1.0);
+        if (glm::length(a + t * d - p) <= tol) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 double planned_patches(const Scene& scene, const MeshingOptions& options) {
@@ -452,6 +462,12 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
             for (const V& p : piece) {
                 const auto corner = std::find(poly.begin(), poly.end(), p);
                 h.push_back(corner != poly.end() ? vh[std::size_t(corner - poly.begin())] : cut_vertex(si, p, tolerance));
+                for (const CoveredRegion* c : covered[std::size_t(si)])
+                    if (c->gap > 0 && on_outline(c->polygon, p, 1e-7 * std::sqrt(area))) {
+                        const auto v = std::size_t(h.back().idx());
+                        if (m_clearance.size() <= v) m_clearance.resize(v + 1, 0.0);
+                        m_clearance[v] = std::max(m_clearance[v], kGapBand * c->gap);
+                    }
             }
             // Drop repeated handles (points that merged), then fan anything beyond a quad.
             h.erase(std::unique(h.begin(), h.end()), h.end());

@@ -46,6 +46,9 @@ struct Surface {
 struct CoveredRegion {
     int surface = -1;
     std::vector<glm::dvec3> polygon;  // convex, counter-clockwise seen from the surface's front
+    /// How far in front of the surface the cover hangs (0: it rests on it or crosses it). Light
+    /// enters the gap only a few gap widths past the outline (see gather_clearance).
+    double gap = 0.0;
 };
 
 /// A scene as read from its source: polygons with materials. Surfaces are one-sided.

@@ -85,4 +85,41 @@ inline Scene closed_box(glm::dvec3 size, Material m) {
     return s;
 }
 
+/// A closed room [-3,3] x [0,2.5] x [-2,2] (y up, walls facing in, rho 0.7) with a grey block
+/// (rho 0.5) on the floor and a 0.6 x 0.6 lamp (E = 10, facing down) hung `gap` below the ceiling
+/// (its back towards it), its footprint [-1.07,-0.47] x [-0.17,0.43]: the common way of modelling
+/// a ceiling light. Surfaces: 0-5 the room (4 the ceiling), 6-11 the block, 12 the lamp. Covered
+/// regions are left for the caller to find (find_covered_regions).
+inline Scene hung_lamp_room(double gap) {
+    Scene s;
+    s.name = "hung lamp room";
+    s.materials = {{"white", Rgb::gray(0.7), Rgb()}, {"grey", Rgb::gray(0.5), Rgb()}, {"lamp", Rgb(), Rgb::gray(10)}};
+    const std::vector<std::vector<glm::dvec3>> room = {
+        {{-3, 0, -2}, {-3, 0, 2}, {3, 0, 2}, {3, 0, -2}},          // floor, facing +y
+        {{-3, 2.5, -2}, {3, 2.5, -2}, {3, 2.5, 2}, {-3, 2.5, 2}},  // ceiling, facing -y
+        {{-3, 0, -2}, {3, 0, -2}, {3, 2.5, -2}, {-3, 2.5, -2}},    // z = -2, facing +z
+        {{-3, 0, 2}, {-3, 2.5, 2}, {3, 2.5, 2}, {3, 0, 2}},        // z = 2, facing -z
+        {{-3, 0, -2}, {-3, 2.5, -2}, {-3, 2.5, 2}, {-3, 0, 2}},    // x = -3, facing +x
+        {{3, 0, -2}, {3, 0, 2}, {3, 2.5, 2}, {3, 2.5, -2}},        // x = 3, facing -x
+    };
+    // Ceiling as surface 4, as the header says.
+    const int order[] = {0, 2, 3, 4, 1, 5};
+    for (const int k : order) s.surfaces.push_back({room[std::size_t(k)], 0, k == 1 ? "ceiling" : "room", {"test", 0}});
+    // The block [0.4,1.6] x [0,0.8] x [0.1,0.9], faces counter-clockwise seen from outside.
+    const double x0 = 0.4, x1 = 1.6, y1 = 0.8, z0 = 0.1, z1 = 0.9;
+    const std::vector<std::vector<glm::dvec3>> block = {
+        {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}},  // top
+        {{x0, 0, z0}, {x1, 0, z0}, {x1, 0, z1}, {x0, 0, z1}},      // bottom
+        {{x0, 0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, 0, z0}},    // z0 side, facing -z
+        {{x0, 0, z1}, {x1, 0, z1}, {x1, y1, z1}, {x0, y1, z1}},    // z1 side, facing +z
+        {{x0, 0, z0}, {x0, 0, z1}, {x0, y1, z1}, {x0, y1, z0}},    // x0 side, facing -x
+        {{x1, 0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, 0, z1}},    // x1 side, facing +x
+    };
+    for (const auto& f : block) s.surfaces.push_back({f, 1, "block", {"test", 0}});
+    const double y = 2.5 - gap;
+    s.surfaces.push_back(
+        {{{-1.07, y, -0.17}, {-0.47, y, -0.17}, {-0.47, y, 0.43}, {-1.07, y, 0.43}}, 2, "lamp", {"test", 0}});
+    return s;
+}
+
 }  // namespace bounce

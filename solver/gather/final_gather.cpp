@@ -293,9 +293,21 @@ std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {
             last_patch[std::size_t(v)] = i;
         }
     }
+    // The share of the way towards the centres: kNudge, or further where the mesh asks for a
+    // clearance (PatchMesh::gather_clearance), but never past half-way.
+    auto share = [&](std::size_t v, const glm::dvec3& to) {
+        const double len = glm::length(to - mesh.vertex_position(v));
+        const double clearance = mesh.gather_clearance(v);
+        return len > 0 && clearance > kNudge * len ? std::min(clearance / len, 0.5) : kNudge;
+    };
     for (std::size_t v = 0; v < out.size(); ++v) {
         const glm::dvec3 x = mesh.vertex_position(v);
-        out[v].position = count[v] == 0 ? x : x + kNudge * (towards[v] / count[v] - x);
+        if (count[v] == 0) {
+            out[v].position = x;
+            continue;
+        }
+        const glm::dvec3 to = towards[v] / count[v];
+        out[v].position = x + share(v, to) * (to - x);
     }
     // Where the patches around a vertex fill more than a half-turn (a hole's corner, a
     // notch), the point so moved can lie in none of them: it would leave the surface (over
@@ -307,7 +319,7 @@ std::vector<GatherPoint> vertex_gather_points(const PatchMesh& mesh) {
     for (std::size_t v = 0; v < out.size(); ++v) {
         if (out[v].cell >= 0 || count[v] == 0) continue;
         const glm::dvec3 x = mesh.vertex_position(v);
-        out[v].position = x + kNudge * (patches[last_patch[v]].centre - x);
+        out[v].position = x + share(v, patches[last_patch[v]].centre) * (patches[last_patch[v]].centre - x);
         out[v].cell = int(last_patch[v]);
     }
     return out;

@@ -587,14 +587,14 @@ TEST(Cli, DiscontinuityMeshingSolvesAndABadChoiceIsOneLine) {
 }
 
 TEST(Cli, FacesWoundTheWrongWayAreReportedAndFlipTurnsThemBack) {
-    // A closed 4 x 3 x 4 room lit by a lamp under the ceiling, and the same file with every
-    // face's vertices reversed (the most common OBJ mistake).
+    // A closed 4 x 3 x 4 room lit by a lamp hung 10 cm under the ceiling (too far to hide it), and the same file with
+    // every face's vertices reversed (the most common OBJ mistake).
     test::TempDir dir;
     dir.write("room.mtl",
               "newmtl white\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.6 0.1 0.1\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
     const std::string vertices =
         "mtllib room.mtl\nv 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nv 0 3 0\nv 4 3 0\nv 4 3 4\nv 0 3 4\n"
-        "v 1.5 2.99 1.5\nv 2.5 2.99 1.5\nv 2.5 2.99 2.5\nv 1.5 2.99 2.5\n";
+        "v 1.5 2.9 1.5\nv 2.5 2.9 1.5\nv 2.5 2.9 2.5\nv 1.5 2.9 2.5\n";
     const std::vector<std::string> faces = {"usemtl white", "f 1 4 3 2",  "f 5 6 7 8", "f 1 2 6 5",   "f 4 8 7 3",
                                             "f 2 3 7 6",    "usemtl red", "f 1 5 8 4", "usemtl lamp", "f 9 10 11 12"};
     std::string right = vertices, wrong = vertices;

@@ -144,3 +144,47 @@ TEST(ContactCuts, TheFloorMeshLeavesTheFootprintsOutWithoutCracks) {
         EXPECT_NEAR(boundary / outlines, 1.0, 1e-9) << "max area " << max_area;
     }
 }
+
+TEST(ContactCuts, ALampHungACentimetreBelowTheCeilingCutsItsFootprint) {
+    // 1 cm is 1.3x the contact tolerance of this room (5e-4 of its 7.6 m diagonal) and 1/60 of
+    // the lamp's side: hung, not resting, yet nothing under it sees the room but through the gap.
+    Scene s = hung_lamp_room(0.01);
+    s.covered = find_covered_regions(s);
+    double area = 0;
+    for (const auto& c : s.covered)
+        if (c.surface == 4) {
+            area += polygon_area(c.polygon);
+            EXPECT_NEAR(c.gap, 0.01, 1e-12);
+        }
+    EXPECT_NEAR(area, 0.36, 1e-9);
+    const PatchMesh mesh(s, MeshingOptions{});
+    double ceiling = 0;
+    for (const auto& p : mesh.patches())
+        if (p.surface == 4) ceiling += p.area;
+    EXPECT_NEAR(ceiling, 24.0 - 0.36, 1e-9);
+    // Vertices on the lamp's outline ask to be gathered 8 gaps away; no other vertex a patch
+    // uses does (the grid's points inside the footprint are left unused).
+    std::vector<bool> used(mesh.mesh().n_vertices(), false);
+    for (std::size_t p = 0; p < mesh.size(); ++p)
+        for (const int v : mesh.patch_vertex_indices(p)) used[std::size_t(v)] = true;
+    std::size_t asking = 0;
+    for (std::size_t v = 0; v < used.size(); ++v) {
+        if (!used[v]) continue;
+        const V x = mesh.vertex_position(v);
+        const bool on = std::abs(x.y - 2.5) < 1e-12 && x.x > -1.0701 && x.x < -0.4699 && x.z > -0.1701 && x.z < 0.4301;
+        EXPECT_NEAR(mesh.gather_clearance(v), on ? PatchMesh::kGapBand * 0.01 : 0.0, 1e-12)
+            << x.x << " " << x.y << " " << x.z;
+        asking += on;
+    }
+    EXPECT_GE(asking, 8u);
+}
+
+TEST(ContactCuts, LampsHungFarOrNarrowLetLightUnderThem) {
+    // 4 cm is more than 1/20 of the 0.6 m lamp's side: the ceiling under it keeps its patches.
+    Scene far = hung_lamp_room(0.04);
+    for (const auto& c : find_covered_regions(far)) EXPECT_NE(c.surface, 4);
+    // A 0.6 x 0.1 strip at 1 cm: from half-way to its corners, grazing rays pass under its side.
+    Scene strip = hung_lamp_room(0.01);
+    for (auto& v : strip.surfaces[12].vertices) v.z = v.z > 0 ? 0.18 : 0.08;
+    for (const auto& c : find_covered_regions(strip)) EXPECT_NE(c.surface, 4);
+}
