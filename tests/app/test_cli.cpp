@@ -413,6 +413,31 @@ TEST(Cli, StrictTurnsGeometryWarningsIntoErrors) {
     EXPECT_FALSE(std::filesystem::exists(dir / "np.vtu"));
 }
 
+TEST(Cli, AJsonMeshObjectWithAMaterialPassesStrict) {
+    // Issue 35: a closed room from an OBJ without materials and a lamp from a PLY, each given
+    // its material by the JSON scene: no "face(s) have no material" warning, and --strict runs.
+    test::TempDir dir;
+    dir.write("room.obj",
+              "v 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nv 0 3 0\nv 4 3 0\nv 4 3 4\nv 0 3 4\n"
+              "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 2 3 7 6\nf 1 5 8 4\n");
+    dir.write("lamp.ply",
+              "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+              "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+              "1.5 2.99 1.5\n2.5 2.99 1.5\n2.5 2.99 2.5\n1.5 2.99 2.5\n4 0 1 2 3\n");
+    const auto scene = dir.write("room.json", R"({"materials": {"white": {"reflectance": 0.7},
+        "lamp": {"reflectance": 0, "emission": 10}}, "objects": [
+        {"type": "mesh", "file": "room.obj", "material": "white"},
+        {"type": "mesh", "file": "lamp.ply", "material": "lamp"}]})");
+    const auto r = bounce_run("solve " + scene.string() + " --patches 300 -o " + (dir / "room.vtu").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("material"), std::string::npos) << r.err;
+    const auto strict =
+        bounce_run("solve " + scene.string() + " --strict --patches 300 -o " + (dir / "strict.vtu").string());
+    EXPECT_EQ(strict.exit_code, 0) << strict.err;
+    EXPECT_EQ(strict.err, "");
+    EXPECT_TRUE(std::filesystem::exists(dir / "strict.vtu"));
+}
+
 TEST(Cli, VisibilityBackendsGiveTheSameSolution) {
     test::TempDir dir;
     const auto a = bounce_run("solve -q --patches 300 --visibility embree --ascii -o " + (dir / "e.vtu").string());
