@@ -138,6 +138,59 @@ class Files(unittest.TestCase):
         self.assertGreater(seconds[-1], seconds[1])
 
 
+class PointsInUse(unittest.TestCase):
+    """Issue 35: every point of a written .vtu is a corner of some cell (the regions contact cuts
+    remove left 74 stray points of radiosity 0 in the default file, which started ParaView's
+    range at 0), and the point arrays match the points."""
+
+    def assert_every_point_used(self, path):
+        g = vtk_read(path)
+        used = np.zeros(g.GetNumberOfPoints(), dtype=bool)
+        ids = vtk.vtkIdList()
+        for c in range(g.GetNumberOfCells()):
+            g.GetCellPoints(c, ids)
+            for k in range(ids.GetNumberOfIds()):
+                used[ids.GetId(k)] = True
+        self.assertGreater(g.GetNumberOfCells(), 0, path)
+        self.assertEqual(int(used.sum()), g.GetNumberOfPoints(), f"{path}: {int((~used).sum())} points unused")
+        pd = g.GetPointData()
+        for k in range(pd.GetNumberOfArrays()):
+            self.assertEqual(pd.GetArray(k).GetNumberOfTuples(), g.GetNumberOfPoints(), pd.GetArrayName(k))
+        # No stray zeros: every point on a lit surface is lit.
+        self.assertGreater(vtk_to_numpy(pd.GetArray("radiosity")).max(axis=1).min(), 0.0, path)
+        return g
+
+    def test_every_kind_of_output(self):
+        runs = {
+            "uniform": [],
+            "hierarchical": ["--solver", "hierarchical"],
+            "adaptive": ["--adaptive"],
+            "display": ["--solver", "hierarchical", "--display-tolerance", "0.0025"],
+        }
+        for name, args in runs.items():
+            vtu = os.path.join(TMP, f"used_{name}.vtu")
+            r = bounce("solve", "-q", "-o", vtu, *args)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            g = self.assert_every_point_used(vtu)
+            print(name, g.GetNumberOfCells(), "cells", g.GetNumberOfPoints(), "points")
+        # The series' snapshots (and its final file).
+        vtu = os.path.join(TMP, "used_series.vtu")
+        r = bounce("solve", "-q", "--max-area", "4000", "--series", "500", "-o", vtu)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        sets = ET.parse(os.path.join(TMP, "used_series.pvd")).getroot().find("Collection").findall("DataSet")
+        self.assertGreaterEqual(len(sets), 2)
+        for s in sets:
+            path = os.path.join(TMP, s.get("file"))
+            g = vtk_read(path)
+            used = set()
+            ids = vtk.vtkIdList()
+            for c in range(g.GetNumberOfCells()):
+                g.GetCellPoints(c, ids)
+                used.update(ids.GetId(k) for k in range(ids.GetNumberOfIds()))
+            self.assertEqual(len(used), g.GetNumberOfPoints(), path)
+        self.assert_every_point_used(vtu)
+
+
 def png(path):
     a = matplotlib.image.imread(path)
     return a[:, :, :3]
