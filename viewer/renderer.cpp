@@ -68,8 +68,9 @@ struct Scene3d {
     vtkNew<vtkRenderer> legend;  // beside the scene: the colour bar's own strip of the window
     vtkNew<vtkLookupTable> lut;
     bool luminance = false;
+    bool smooth = true;
 
-    Scene3d(vtkUnstructuredGrid* g, const RenderOptions& o) {
+    Scene3d(vtkUnstructuredGrid* g, const RenderOptions& o) : smooth(o.smooth) {
         if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
             throw InputError("--size: out of range, got " + std::to_string(o.width) + "x" + std::to_string(o.height) +
                              " (expected 16x16 to 8192x8192)");
@@ -150,12 +151,19 @@ struct Scene3d {
     }
 };
 
+/// Smooth by default: a .vtu without point data (not bounce's) is drawn flat, unless --smooth
+/// was asked for by name.
+RenderOptions without_point_data_flat(vtkUnstructuredGrid* g, RenderOptions o, const std::filesystem::path& what) {
+    if (!o.smooth || g->GetPointData()->GetArray("radiosity")) return o;
+    if (o.smooth_required) throw InputError(what.string() + ": --smooth needs point data 'radiosity' in the input");
+    o.smooth = false;
+    return o;
+}
+
 void render_grid(vtkUnstructuredGrid* g, const std::filesystem::path& png, const RenderOptions& o) {
     check_picture_path(png);
-    if (o.smooth && !g->GetPointData()->GetArray("radiosity"))
-        throw InputError(png.string() + ": --smooth needs point data 'radiosity' in the input");
     VirtualDisplay display;
-    Scene3d s(g, o);
+    Scene3d s(g, without_point_data_flat(g, o, png));
     s.window->SetOffScreenRendering(1);
     s.window->Render();
     vtkNew<vtkWindowToImageFilter> grab;
@@ -186,7 +194,7 @@ void keypress(vtkObject* caller, unsigned long, void* client, void*) {
     auto* s = static_cast<Scene3d*>(client);
     const std::string key = iren->GetKeySym() ? iren->GetKeySym() : "";
     if (key == "e") s->actor->GetProperty()->SetEdgeVisibility(!s->actor->GetProperty()->GetEdgeVisibility());
-    if (key == "l") s->set_colouring(!s->luminance, false);
+    if (key == "l") s->set_colouring(!s->luminance, s->smooth);
     iren->Render();
 }
 
@@ -196,7 +204,7 @@ void timer_exit(vtkObject* caller, unsigned long, void*, void*) {
 
 void view_grid(vtkUnstructuredGrid* g, const RenderOptions& o, double exit_after) {
     VirtualDisplay display;
-    Scene3d s(g, o);
+    Scene3d s(g, without_point_data_flat(g, o, "view"));
     s.window->SetWindowName("bounce: e edges, l luminance, mouse to rotate and zoom");
     vtkNew<vtkRenderWindowInteractor> iren;
     vtkNew<vtkInteractorStyleTrackballCamera> style;

@@ -16,7 +16,8 @@ struct RenderOptions {
     double fov = 0.0;                // vertical field of view, degrees; 0: the camera's own (choose_camera)
     int width = 800, height = 800;   // pixels
     double exposure = 0.0;           // EV: each +1 doubles the brightness before the tone curve
-    bool smooth = false;             // colours from the point data (interpolated) instead of per patch
+    bool smooth = true;              // colours from the point data (interpolated); false (--flat): per patch
+    bool smooth_required = false;    // --smooth given: an input without point data is an error, not flat
     bool luminance = false;          // pseudo-colour by luminance with a colour bar
     bool edges = false;              // draw patch edges
 };

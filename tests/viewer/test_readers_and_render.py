@@ -236,9 +236,9 @@ class Pictures(unittest.TestCase):
         self.assertGreater(toward_red[0] / toward_red[1], 1.15 * toward_green[0] / toward_green[1])
 
     def test_display_rgb_is_the_rendered_picture(self):
-        # The file's display_rgb (for ParaView, Map Scalars off) is what render draws: sample
-        # points on the back wall, the ceiling, the red and green walls and the floor.
-        img = self.render("display.png", "--size", "800x800")
+        # The file's cell display_rgb (for ParaView, Map Scalars off) is what render --flat draws:
+        # sample points on the back wall, the ceiling, the red and green walls and the floor.
+        img = self.render("display.png", "--size", "800x800", "--flat")
         g = vtk_read(self.vtu)
         rgb = vtk_to_numpy(g.GetCellData().GetArray("display_rgb"))
         self.assertEqual(rgb.dtype, np.uint8)
@@ -262,6 +262,15 @@ class Pictures(unittest.TestCase):
         flat = self.render("flat.png", "--size", "200x200", "--flat")
         smooth = self.render("smooth.png", "--size", "200x200", "--smooth")
         self.assertGreater(np.abs(flat - smooth).mean(), 0.002)
+
+    def test_the_default_picture_is_the_smooth_point_data(self):
+        # Issue 35: the point data is the default picture (as the ParaView script shows it);
+        # --flat keeps the patch values.
+        default = self.render("default.png", "--size", "200x200")
+        smooth = self.render("smooth_again.png", "--size", "200x200", "--smooth")
+        flat = self.render("flat_again.png", "--size", "200x200", "--flat")
+        np.testing.assert_array_equal(default, smooth)
+        self.assertGreater(np.abs(default - flat).mean(), 0.002)
 
     def test_missing_or_corrupt_input_is_one_line_exit_two(self):
         bad = os.path.join(TMP, "corrupt.vtu")
@@ -339,8 +348,12 @@ class ParaViewScript(unittest.TestCase):
         with open(script) as f:
             text = f.read()
         compile(text, script, "exec")  # valid Python
-        self.assertIn('ColorBy(display, ("CELLS", "display_rgb"))', text)
+        # The smooth point data, as render draws by default (issue 35), unlit, used as colours.
+        self.assertIn('ColorBy(display, ("POINTS", "display_rgb"))', text)
+        self.assertNotIn('"CELLS", "display_rgb"', text.split("ColorBy(")[1])
         self.assertIn("display.MapScalars = 0", text)
+        self.assertIn("display.Ambient = 1.0", text)
+        self.assertIn("display.Diffuse = 0.0", text)
         self.assertIn("view.CameraPosition = [278, 273, -800]", text)  # render's camera for the box
         self.assertIn("view.CameraViewAngle = 39", text)
         # With ParaView (BOUNCE_PVBATCH: a pvbatch command, e.g. shared/tools/paraview.sh), its
