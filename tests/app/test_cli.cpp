@@ -123,6 +123,22 @@ TEST(Cli, NotConvergedWithinTheShotLimitExitsThreeAndStillWrites) {
     EXPECT_EQ(r.exit_code, 3);
     EXPECT_NE(r.out.find("NOT converged"), std::string::npos);
     EXPECT_TRUE(std::filesystem::exists(dir / "p.vtu"));
+    // Issue 35: rendering it says so, in one line on stderr (and in the picture's corner); the
+    // picture is still written, and named on stdout.
+    const auto png = dir / "p.png";
+    const auto shown = bounce_run("render " + (dir / "p.vtu").string() + " --size 64x64 -o " + png.string());
+    EXPECT_EQ(shown.exit_code, 0) << shown.err;
+    EXPECT_EQ(lines(shown.err), 1) << shown.err;
+    EXPECT_NE(shown.err.find("NOT CONVERGED (max iterations) after 3 steps, unshot fraction"), std::string::npos)
+        << shown.err;
+    EXPECT_NE(shown.err.find("p.vtu"), std::string::npos) << shown.err;
+    EXPECT_EQ(shown.out, "wrote " + png.string() + "\n");
+    EXPECT_TRUE(std::filesystem::exists(png));
+    // A converged solution renders without a note.
+    ASSERT_EQ(bounce_run("solve -q --max-area 8000 -o " + (dir / "c.vtu").string()).exit_code, 0);
+    const auto done = bounce_run("render " + (dir / "c.vtu").string() + " --size 64x64 -o " + png.string());
+    EXPECT_EQ(done.exit_code, 0) << done.err;
+    EXPECT_EQ(done.err, "");
 }
 
 TEST(Cli, DegenerateFacesAreDroppedWithAWarningNotAnError) {
@@ -323,6 +339,11 @@ TEST(Cli, InterruptWritesTheSolutionSoFarMarkedNotConverged) {
         EXPECT_EQ(std::stod(vtu.substr(value, 40)), 0.0);
         EXPECT_NE(vtu.find("</VTKFile>"), std::string::npos) << "complete XML";
         EXPECT_TRUE(no_temporaries(dir.path()));
+        // Issue 35: its picture is not shown as if it were the answer.
+        const auto shown = bounce_run("render " + out.string() + " --size 64x64 -o " + (dir / "i.png").string());
+        EXPECT_EQ(shown.exit_code, 0) << shown.err;
+        EXPECT_EQ(lines(shown.err), 1) << shown.err;
+        EXPECT_NE(shown.err.find("NOT CONVERGED (interrupted)"), std::string::npos) << shown.err;
     }
 }
 

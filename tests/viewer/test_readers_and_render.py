@@ -272,6 +272,22 @@ class Pictures(unittest.TestCase):
         np.testing.assert_array_equal(default, smooth)
         self.assertGreater(np.abs(default - flat).mean(), 0.002)
 
+    def test_an_unfinished_solution_says_so_in_the_corner(self):
+        # Issue 35: a caption (yellow on dark) in the lower left corner of a picture of an
+        # unconverged solution; none on a converged one.
+        vtu = os.path.join(TMP, "unfinished.vtu")
+        r = bounce("solve", "--max-area", "8000", "--max-shots", "3", "-q", "-o", vtu)
+        self.assertEqual(r.returncode, 3, r.stderr)
+        out = os.path.join(TMP, "unfinished.png")
+        r = bounce("render", vtu, "-o", out, "--size", "400x400")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("NOT CONVERGED (max iterations)", r.stderr)
+        def yellow(img):
+            corner = img[-40:, :300]
+            return ((corner[:, :, 0] > 0.8) & (corner[:, :, 1] > 0.6) & (corner[:, :, 2] < 0.4)).sum()
+        self.assertGreater(yellow(png(out)), 50)
+        self.assertEqual(yellow(self.render("finished.png", "--size", "400x400")), 0)
+
     def test_missing_or_corrupt_input_is_one_line_exit_two(self):
         bad = os.path.join(TMP, "corrupt.vtu")
         with open(bad, "w") as f:
