@@ -691,6 +691,16 @@ TEST(Cli, FacesWoundTheWrongWayAreReportedAndFlipTurnsThemBack) {
     EXPECT_GT(lit_right, 10.0);
 }
 
+TEST(Cli, SolveParaviewNamesTheScriptItWrote) {
+    test::TempDir dir;
+    const auto r = bounce_run("solve --max-area 8000 --paraview -o " + (dir / "x.vtu").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "x_paraview.py"));
+    EXPECT_NE(r.out.find("wrote " + (dir / "x.vtu").string() + " and " + (dir / "x_paraview.py").string()),
+              std::string::npos)
+        << r.out;
+}
+
 TEST(Cli, ViewWithoutADisplayIsAClearErrorAtOnce) {
     // Before: an invisible window on a private Xvfb, and a hang with no message.
     const auto start = std::chrono::steady_clock::now();
