@@ -190,9 +190,15 @@ void add_render_options(CLI::App* cmd, RenderOptions& r) {
         [&r](const CLI::results_t& v) { return std::sscanf(v[0].c_str(), "%dx%d", &r.width, &r.height) == 2; },
         "picture size WxH (800x800)");
     cmd->add_option("--exposure", r.exposure, "exposure in EV (0: mean patch at mid grey)");
-    cmd->add_flag("--smooth", r.smooth, "colours interpolated from the point data");
     cmd->add_flag(
-        "--flat", [&r](std::int64_t) { r.smooth = false; }, "one colour per patch (default)");
+        "--smooth",
+        [&r](std::int64_t) {
+            r.smooth = true;
+            r.smooth_required = true;
+        },
+        "colours interpolated from the point data (default)");
+    cmd->add_flag(
+        "--flat", [&r](std::int64_t) { r.smooth = false; }, "one colour per patch (the patch values)");
     cmd->add_flag("--luminance", r.luminance, "pseudo-colour by luminance with a colour bar");
     cmd->add_flag("--edges", r.edges, "draw the patch edges");
 }

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 
 #include "app/command.h"
@@ -34,7 +35,13 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
             "view: no display, DISPLAY is unset (expected an X display for the window; "
             "bounce render IN -o OUT.png draws a picture without one)");
     if (is_vtu(r.input)) {
-        interactive ? view_vtu(r.input, r.render, r.exit_after) : render_vtu(r.input, r.output, r.render);
+        // A picture of a solution that did not finish says so, on the terminal and in its corner.
+        const UnfinishedNote note = [&](const std::string& caption) {
+            if (!o.quiet)
+                std::cerr << "bounce: note: " << r.input << ": " << caption << "; the picture says so in its corner\n";
+        };
+        interactive ? view_vtu(r.input, r.render, r.exit_after, note) : render_vtu(r.input, r.output, r.render, note);
+        if (!interactive && !o.quiet) std::cout << "wrote " << r.output << "\n";
         return 0;
     }
     Scene scene;
@@ -44,6 +51,7 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
     const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
     interactive ? view_solution(mesh, res, {r.input, ""}, r.render, r.exit_after)
                 : render_solution(mesh, res, {r.input, ""}, r.output, r.render);
+    if (!interactive && !o.quiet) std::cout << "wrote " << r.output << "\n";
     return 0;
 }
 

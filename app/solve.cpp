@@ -154,7 +154,8 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         write_paraview_script(paraview_script_path(out), out, *elements, res,
                               ExportInfo{o.scene, settings.str(), s.meshio}, s.render);
     if (!o.quiet)
-        std::cout << summary.str() << "wrote " << out.string() << (s.png.empty() ? "" : " and " + s.png) << "\n";
+        std::cout << summary.str() << "wrote " << out.string() << (s.png.empty() ? "" : " and " + s.png)
+                  << (s.paraview ? " and " + paraview_script_path(out).string() : "") << "\n";
     if (!res.converged && !o.quiet)
         std::cerr << "bounce: not converged (" << res.status << "); the solution was written\n";
     return res.converged ? 0 : 3;
@@ -294,7 +295,8 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         if (res.residual >= 0) std::cout << ", residual " << res.residual;
         std::cout << (res.converged ? "" : " (NOT converged: " + res.status + ")") << ", " << res.seconds << " s\n"
                   << "wrote " << out.string() << (series ? " and " + series->pvd().string() : "")
-                  << (s.png.empty() ? "" : " and " + s.png) << "\n";
+                  << (s.png.empty() ? "" : " and " + s.png)
+                  << (s.paraview ? " and " + paraview_script_path(out).string() : "") << "\n";
     }
     if (!res.converged && !o.quiet) {
         std::cerr << "bounce: not converged (" << res.status << "), last "

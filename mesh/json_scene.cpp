@@ -204,7 +204,8 @@ Scene read_json_scene(const std::filesystem::path& path) {
             const std::filesystem::path file = path.parent_path() / o["file"].get<std::string>();
             const std::string ext = file.extension().string();
             if (ext == ".obj" || ext == ".OBJ") {
-                Scene sub = read_obj(file);
+                // The object's material replaces the file's: its faces do not lack one.
+                Scene sub = read_obj(file, material < 0);
                 const int base = int(scene.materials.size());
                 for (auto& m : sub.materials) scene.materials.push_back(m);
                 for (auto& w : sub.warnings) scene.warnings.push_back(w);

@@ -74,7 +74,7 @@ void read_mtl(const std::filesystem::path& path, Scene& scene, std::map<std::str
 
 }  // namespace
 
-Scene read_obj(const std::filesystem::path& path) {
+Scene read_obj(const std::filesystem::path& path, bool own_materials) {
     Lines in{read_text_file(path, "OBJ file")};
     Scene scene;
     scene.name = path.stem().string();
@@ -116,7 +116,9 @@ Scene read_obj(const std::filesystem::path& path) {
                                      std::to_string(n) + " vertices so far)");
                 s.vertices.push_back(verts[i]);
             }
-            if (current < 0) {
+            if (!own_materials) {
+                s.material = -1;
+            } else if (current < 0) {
                 if (default_material < 0) {
                     scene.materials.push_back({"default white 0.5", Rgb::gray(0.5), Rgb()});
                     default_material = int(scene.materials.size()) - 1;
@@ -129,7 +131,7 @@ Scene read_obj(const std::filesystem::path& path) {
             scene.surfaces.push_back(std::move(s));
         } else if (key == "o" || key == "g") {
             object = w.size() > 1 ? std::string(w[1]) : "default";
-        } else if (key == "usemtl") {
+        } else if (key == "usemtl" && own_materials) {
             const std::string name = w.size() > 1 ? std::string(w[1]) : "";
             auto it = byname.find(name);
             if (it != byname.end()) {
@@ -138,7 +140,7 @@ Scene read_obj(const std::filesystem::path& path) {
                 current = -2;
                 scene.warnings.push_back(where + ": material '" + name + "' is not defined; using white 0.5");
             }
-        } else if (key == "mtllib") {
+        } else if (key == "mtllib" && own_materials) {
             for (std::size_t k = 1; k < w.size(); ++k) {
                 const auto lib = path.parent_path() / std::string(w[k]);
                 std::error_code ec;

@@ -11,6 +11,9 @@ namespace bounce {
 /// the emitted radiosity. Faces with no (or an unknown) material get white 0.5 and a warning.
 /// Polygons of any size, negative indices, v/vt/vn forms, comments and odd whitespace load.
 /// Throws InputError with "file:line: reason" on malformed input.
-Scene read_obj(const std::filesystem::path& path);
+/// own_materials false: the caller gives every face its material (a JSON scene's `mesh` object
+/// with a `material`), so the file's mtllib and usemtl are not read, no material is made and no
+/// warning is given about them; every surface's material is -1.
+Scene read_obj(const std::filesystem::path& path, bool own_materials = true);
 
 }  // namespace bounce

@@ -140,6 +140,42 @@ OpenPatchMesh::FaceHandle add_face_or_alone(OpenPatchMesh& mesh, const std::vect
     return mesh.add_face(own);
 }
 
+/// Leaves out the vertices no face uses (grid corners inside a contact cut, the corners of a
+/// face OpenMesh refused before it went in on vertices of its own): every exported point is
+/// then a corner of some cell, with no stray radiosity 0 in the point data. The other vertices
+/// keep their order and the faces theirs (the same faces offered in the same order join the
+/// same way).
+/// Returns each old vertex's new index (-1: dropped), or nothing when none was dropped.
+std::vector<int> drop_unused_vertices(OpenPatchMesh& mesh) {
+    bool any = false;
+    for (auto v : mesh.vertices()) any = any || mesh.is_isolated(v);
+    if (!any) return {};
+    OpenPatchMesh compact;
+    std::vector<OpenPatchMesh::VertexHandle> to(mesh.n_vertices());
+    for (auto v : mesh.vertices())
+        if (!mesh.is_isolated(v)) {
+            const OpenPatchMesh::Point q = mesh.point(v);
+            to[std::size_t(v.idx())] = compact.add_vertex(q);
+        }
+    OpenMesh::FPropHandleT<int> surface_in, surface_out;
+    const bool has_surface = mesh.get_property_handle(surface_in, "f:surface");
+    if (has_surface) compact.add_property(surface_out, "f:surface");
+    std::vector<OpenPatchMesh::VertexHandle> vh;
+    for (auto f : mesh.faces()) {
+        vh.clear();
+        for (auto v : mesh.fv_range(f)) vh.push_back(to[std::size_t(v.idx())]);
+        bool alone = false;
+        const auto g = add_face_or_alone(compact, vh, alone);
+        if (!g.is_valid() || g.idx() != f.idx()) throw std::runtime_error("patch mesh: compacting the vertices failed");
+        if (has_surface) compact.property(surface_out, g) = mesh.property(surface_in, f);
+    }
+    mesh = compact;
+    std::vector<int> index(to.size(), -1);
+    for (std::size_t v = 0; v < to.size(); ++v)
+        if (to[v].is_valid()) index[v] = to[v].idx();
+    return index;
+}
+
 bool convex_quad(std::span<const V> q) {
     const V n = newell_normal(q);
     for (int k = 0; k < 4; ++k)
@@ -540,6 +576,12 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
             parent = next;
         }
     }
+    if (const std::vector<int> index = drop_unused_vertices(m_mesh); !index.empty() && !m_clearance.empty()) {
+        std::vector<double> kept(m_mesh.n_vertices(), 0.0);
+        for (std::size_t v = 0; v < m_clearance.size(); ++v)
+            if (index[v] >= 0) kept[std::size_t(index[v])] = m_clearance[v];
+        m_clearance = std::move(kept);
+    }
     // Cut patches were emitted in pieces (or not at all), triangulated surfaces in triangles: with
     // split 1 every face is its own parent.
     if (cut || options.kind == MeshingOptions::Kind::discontinuity)
@@ -584,6 +626,7 @@ PatchMesh::PatchMesh(std::vector<Patch> patches, const std::vector<glm::dvec3>& 
         m_mesh.property(face_surface, face) = m_patches[i].surface;
         m_parent[i] = std::uint32_t(i);
     }
+    drop_unused_vertices(m_mesh);
     if (manifold.split_points > 0)
         m_warnings.push_back("meshing: " + std::to_string(manifold.split_points) + " element corner" +
                              (manifold.split_points == 1 ? "" : "s") +

@@ -39,8 +39,9 @@ double planned_patches(const Scene& scene, const MeshingOptions& options);
 
 class PatchMesh;
 
-/// Per mesh vertex, the area-weighted mean of `per_patch` over the patches around the vertex
-/// (0 at a vertex no patch uses): the exported point data when nothing better is known.
+/// Per mesh vertex, the area-weighted mean of `per_patch` over the patches around the vertex:
+/// the exported point data when nothing better is known. (Every vertex is some patch's corner:
+/// the meshes drop the ones no patch uses.)
 std::vector<Rgb> area_weighted_vertex_values(const PatchMesh& mesh, const std::vector<Rgb>& per_patch);
 
 struct PatchMeshTraits : OpenMesh::DefaultTraits {
@@ -63,6 +64,8 @@ public:
 
     const std::vector<Patch>& patches() const { return m_patches; }
     std::size_t size() const { return m_patches.size(); }
+    /// Every vertex is a corner of some face (vertices left unused, inside contact cuts, are
+    /// dropped), so the exported points are exactly the cells' corners.
     const OpenPatchMesh& mesh() const { return m_mesh; }
     /// Vertex indices of patch p, in order (3 or 4).
     std::vector<int> patch_vertex_indices(std::size_t p) const;

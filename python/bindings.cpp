@@ -891,9 +891,10 @@ PYBIND11_MODULE(_bounce, m) {
              "Writes the .vtu `bounce solve` writes (temporary file, then rename). meshio=True stores the text "
              "fields as char arrays, which meshio reads.")
         .def("render", &render_file, py::arg("path"), py::arg("camera") = "default", py::arg("fov") = 0.0,
-             py::arg("size") = std::pair<int, int>(800, 800), py::arg("exposure") = 0.0, py::arg("smooth") = false,
+             py::arg("size") = std::pair<int, int>(800, 800), py::arg("exposure") = 0.0, py::arg("smooth") = true,
              py::arg("luminance") = false, py::arg("edges") = false,
-             "Renders the solution to a PNG or JPEG, as `bounce render` does.")
+             "Renders the solution to a PNG or JPEG, as `bounce render` does: smooth (the point data) unless "
+             "smooth=False (one colour per patch).")
         .def("__repr__", [](const SolutionData& s) {
             std::ostringstream o;
             o << "<bounce.Solution " << s.result.solver << ", " << s.result.radiosity.size() << " patches, "

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 #include <unistd.h>
 
@@ -27,6 +28,7 @@
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
 #include <vtkStringArray.h>
+#include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
@@ -59,6 +61,29 @@ void set_camera(vtkRenderer* ren, vtkUnstructuredGrid* g, const RenderOptions& o
     ren->ResetCameraClippingRange();
 }
 
+/// The caption of an unfinished solution (UnfinishedNote); empty when the field data says it
+/// converged or says nothing.
+std::string unfinished_caption(vtkUnstructuredGrid* g) {
+    vtkFieldData* fd = g->GetFieldData();
+    vtkDataArray* converged = fd ? fd->GetArray("converged") : nullptr;
+    if (!converged || converged->GetNumberOfTuples() < 1 || converged->GetTuple1(0) != 0) return "";
+    std::ostringstream s;
+    s << "NOT CONVERGED";
+    if (const std::string status = field_text(fd, "status"); !status.empty()) s << " (" << status << ")";
+    const char* sep = ": ";
+    if (vtkDataArray* steps = fd->GetArray("steps"); steps && steps->GetNumberOfTuples() > 0) {
+        s << " after " << std::int64_t(steps->GetTuple1(0)) << " steps";
+        sep = ", ";
+    }
+    vtkDataArray* unshot = fd->GetArray("unshot_fraction");
+    vtkDataArray* residual = fd->GetArray("residual");
+    if (unshot && unshot->GetNumberOfTuples() > 0 && unshot->GetTuple1(0) > 0)
+        s << sep << "unshot fraction " << unshot->GetTuple1(0);
+    else if (residual && residual->GetNumberOfTuples() > 0 && residual->GetTuple1(0) >= 0)
+        s << sep << "residual " << residual->GetTuple1(0);
+    return s.str();
+}
+
 struct Scene3d {
     vtkNew<vtkRenderer> renderer;
     vtkNew<vtkRenderWindow> window;
@@ -67,9 +92,11 @@ struct Scene3d {
     vtkNew<vtkScalarBarActor> bar;
     vtkNew<vtkRenderer> legend;  // beside the scene: the colour bar's own strip of the window
     vtkNew<vtkLookupTable> lut;
+    vtkNew<vtkTextActor> caption;  // an unfinished solution says so in the corner
     bool luminance = false;
+    bool smooth = true;
 
-    Scene3d(vtkUnstructuredGrid* g, const RenderOptions& o) {
+    Scene3d(vtkUnstructuredGrid* g, const RenderOptions& o) : smooth(o.smooth) {
         if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
             throw InputError("--size: out of range, got " + std::to_string(o.width) + "x" + std::to_string(o.height) +
                              " (expected 16x16 to 8192x8192)");
@@ -120,6 +147,15 @@ struct Scene3d {
         bar->SetWidth(0.8);
         bar->SetHeight(0.84);
         renderer->AddActor(actor);
+        if (const std::string text = unfinished_caption(g); !text.empty()) {
+            caption->SetInput(text.c_str());
+            caption->GetTextProperty()->SetFontSize(std::max(12, o.height / 40));
+            caption->GetTextProperty()->SetColor(1.0, 0.85, 0.2);
+            caption->GetTextProperty()->SetBackgroundColor(0.0, 0.0, 0.0);
+            caption->GetTextProperty()->SetBackgroundOpacity(0.6);
+            caption->SetDisplayPosition(std::max(4, o.width / 100), std::max(4, o.height / 100));
+            renderer->AddActor2D(caption);
+        }
         legend->AddActor2D(bar);
         legend->SetBackground(0.0, 0.0, 0.0);
         legend->SetViewport(0.84, 0.0, 1.0, 1.0);
@@ -150,12 +186,19 @@ struct Scene3d {
     }
 };
 
+/// Smooth by default: a .vtu without point data (not bounce's) is drawn flat, unless --smooth
+/// was asked for by name.
+RenderOptions without_point_data_flat(vtkUnstructuredGrid* g, RenderOptions o, const std::filesystem::path& what) {
+    if (!o.smooth || g->GetPointData()->GetArray("radiosity")) return o;
+    if (o.smooth_required) throw InputError(what.string() + ": --smooth needs point data 'radiosity' in the input");
+    o.smooth = false;
+    return o;
+}
+
 void render_grid(vtkUnstructuredGrid* g, const std::filesystem::path& png, const RenderOptions& o) {
     check_picture_path(png);
-    if (o.smooth && !g->GetPointData()->GetArray("radiosity"))
-        throw InputError(png.string() + ": --smooth needs point data 'radiosity' in the input");
     VirtualDisplay display;
-    Scene3d s(g, o);
+    Scene3d s(g, without_point_data_flat(g, o, png));
     s.window->SetOffScreenRendering(1);
     s.window->Render();
     vtkNew<vtkWindowToImageFilter> grab;
@@ -186,7 +229,7 @@ void keypress(vtkObject* caller, unsigned long, void* client, void*) {
     auto* s = static_cast<Scene3d*>(client);
     const std::string key = iren->GetKeySym() ? iren->GetKeySym() : "";
     if (key == "e") s->actor->GetProperty()->SetEdgeVisibility(!s->actor->GetProperty()->GetEdgeVisibility());
-    if (key == "l") s->set_colouring(!s->luminance, false);
+    if (key == "l") s->set_colouring(!s->luminance, s->smooth);
     iren->Render();
 }
 
@@ -196,7 +239,7 @@ void timer_exit(vtkObject* caller, unsigned long, void*, void*) {
 
 void view_grid(vtkUnstructuredGrid* g, const RenderOptions& o, double exit_after) {
     VirtualDisplay display;
-    Scene3d s(g, o);
+    Scene3d s(g, without_point_data_flat(g, o, "view"));
     s.window->SetWindowName("bounce: e edges, l luminance, mouse to rotate and zoom");
     vtkNew<vtkRenderWindowInteractor> iren;
     vtkNew<vtkInteractorStyleTrackballCamera> style;
@@ -226,8 +269,11 @@ void check_picture_path(const std::filesystem::path& picture) {
                          "' (expected .png, .jpg or .jpeg)");
 }
 
-void render_vtu(const std::filesystem::path& vtu, const std::filesystem::path& png, const RenderOptions& options) {
-    render_grid(read_solution_grid(vtu), png, options);
+void render_vtu(const std::filesystem::path& vtu, const std::filesystem::path& png, const RenderOptions& options,
+                const UnfinishedNote& note) {
+    const auto grid = read_solution_grid(vtu);
+    if (const std::string text = unfinished_caption(grid); !text.empty() && note) note(text);
+    render_grid(grid, png, options);
 }
 
 void render_solution(const PatchMesh& mesh, const SolveResult& result, const ExportInfo& info,
@@ -235,8 +281,11 @@ void render_solution(const PatchMesh& mesh, const SolveResult& result, const Exp
     render_grid(make_solution_grid(mesh, result, info), png, options);
 }
 
-void view_vtu(const std::filesystem::path& vtu, const RenderOptions& options, double exit_after) {
-    view_grid(read_solution_grid(vtu), options, exit_after);
+void view_vtu(const std::filesystem::path& vtu, const RenderOptions& options, double exit_after,
+              const UnfinishedNote& note) {
+    const auto grid = read_solution_grid(vtu);
+    if (const std::string text = unfinished_caption(grid); !text.empty() && note) note(text);
+    view_grid(grid, options, exit_after);
 }
 
 void view_solution(const PatchMesh& mesh, const SolveResult& result, const ExportInfo& info,

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "mesh/patch_mesh.h"
@@ -16,7 +17,8 @@ struct RenderOptions {
     double fov = 0.0;                // vertical field of view, degrees; 0: the camera's own (choose_camera)
     int width = 800, height = 800;   // pixels
     double exposure = 0.0;           // EV: each +1 doubles the brightness before the tone curve
-    bool smooth = false;             // colours from the point data (interpolated) instead of per patch
+    bool smooth = true;              // colours from the point data (interpolated); false (--flat): per patch
+    bool smooth_required = false;    // --smooth given: an input without point data is an error, not flat
     bool luminance = false;          // pseudo-colour by luminance with a colour bar
     bool edges = false;              // draw patch edges
 };
@@ -25,10 +27,17 @@ struct RenderOptions {
 /// written; the bytes follow the name). Callers check before any work.
 void check_picture_path(const std::filesystem::path& picture);
 
+/// Told, before the picture is drawn, what a picture of an unfinished solution says in its
+/// corner: "NOT CONVERGED (interrupted) after 812 steps, unshot fraction 0.031", from the field data
+/// converged, status, steps and unshot_fraction (or residual). Not called for a converged
+/// solution or a file without that field data.
+using UnfinishedNote = std::function<void(const std::string& caption)>;
+
 /// Renders a .vtu written by bounce to a PNG (temporary file, then rename), under a virtual
 /// display when DISPLAY is unset. Throws InputError for a missing or corrupt input or a bad
 /// camera string.
-void render_vtu(const std::filesystem::path& vtu, const std::filesystem::path& png, const RenderOptions& options);
+void render_vtu(const std::filesystem::path& vtu, const std::filesystem::path& png, const RenderOptions& options,
+                const UnfinishedNote& note = {});
 
 /// Renders a solution in memory to a PNG.
 void render_solution(const PatchMesh& mesh, const SolveResult& result, const ExportInfo& info,
@@ -36,7 +45,8 @@ void render_solution(const PatchMesh& mesh, const SolveResult& result, const Exp
 
 /// An interactive window (rotate, zoom; 'e' toggles patch edges, 'l' luminance colouring with
 /// a colour bar). Closes by itself after exit_after seconds when that is positive.
-void view_vtu(const std::filesystem::path& vtu, const RenderOptions& options, double exit_after = 0.0);
+void view_vtu(const std::filesystem::path& vtu, const RenderOptions& options, double exit_after = 0.0,
+              const UnfinishedNote& note = {});
 void view_solution(const PatchMesh& mesh, const SolveResult& result, const ExportInfo& info,
                    const RenderOptions& options, double exit_after = 0.0);
 

@@ -18,11 +18,13 @@ struct ExportInfo {
 
 /// Writes a VTK XML unstructured grid (.vtu) with one cell per patch.
 /// Cell data: radiosity (RGB), emission (RGB), reflectance (RGB), irradiance (RGB),
-/// luminance (Rec. 709 of radiosity), display_rgb (uint8 RGB: the picture of `bounce render`
-/// at exposure 0, for ParaView with Map Scalars off), area, surface (input face id), and radiosity_gathered
-/// when the result holds values gathered at the patch centres. Point data: radiosity gathered
-/// at each vertex when the result holds it (result.point_radiosity), else averaged over the
-/// patches around each vertex, weighted by area (smooth shading in ParaView), and its display_rgb.
+/// luminance (Rec. 709 of radiosity), display_rgb (uint8 RGB: the picture of `bounce render
+/// --flat` at exposure 0, for ParaView with Map Scalars off), area, surface (input face id), and
+/// radiosity_gathered when the result holds values gathered at the patch centres. Point data (one
+/// point per mesh vertex, each a corner of some cell): radiosity gathered at each vertex when the
+/// result holds it (result.point_radiosity), else averaged over the patches around each vertex,
+/// weighted by area, and its display_rgb (the default picture of `bounce render` and of the
+/// `--paraview` script).
 /// Field data: the text fields scene, solver, form_factors, settings, version, status (VTK
 /// string arrays, which ParaView shows as text; Int8 char arrays with info.text_as_chars, since
 /// meshio rejects the String type), steps, unshot_fraction, converged, residual, seconds, and the

@@ -123,6 +123,22 @@ TEST(Cli, NotConvergedWithinTheShotLimitExitsThreeAndStillWrites) {
     EXPECT_EQ(r.exit_code, 3);
     EXPECT_NE(r.out.find("NOT converged"), std::string::npos);
     EXPECT_TRUE(std::filesystem::exists(dir / "p.vtu"));
+    // Issue 35: rendering it says so, in one line on stderr (and in the picture's corner); the
+    // picture is still written, and named on stdout.
+    const auto png = dir / "p.png";
+    const auto shown = bounce_run("render " + (dir / "p.vtu").string() + " --size 64x64 -o " + png.string());
+    EXPECT_EQ(shown.exit_code, 0) << shown.err;
+    EXPECT_EQ(lines(shown.err), 1) << shown.err;
+    EXPECT_NE(shown.err.find("NOT CONVERGED (max iterations) after 3 steps, unshot fraction"), std::string::npos)
+        << shown.err;
+    EXPECT_NE(shown.err.find("p.vtu"), std::string::npos) << shown.err;
+    EXPECT_EQ(shown.out, "wrote " + png.string() + "\n");
+    EXPECT_TRUE(std::filesystem::exists(png));
+    // A converged solution renders without a note.
+    ASSERT_EQ(bounce_run("solve -q --max-area 8000 -o " + (dir / "c.vtu").string()).exit_code, 0);
+    const auto done = bounce_run("render " + (dir / "c.vtu").string() + " --size 64x64 -o " + png.string());
+    EXPECT_EQ(done.exit_code, 0) << done.err;
+    EXPECT_EQ(done.err, "");
 }
 
 TEST(Cli, DegenerateFacesAreDroppedWithAWarningNotAnError) {
@@ -323,6 +339,11 @@ TEST(Cli, InterruptWritesTheSolutionSoFarMarkedNotConverged) {
         EXPECT_EQ(std::stod(vtu.substr(value, 40)), 0.0);
         EXPECT_NE(vtu.find("</VTKFile>"), std::string::npos) << "complete XML";
         EXPECT_TRUE(no_temporaries(dir.path()));
+        // Issue 35: its picture is not shown as if it were the answer.
+        const auto shown = bounce_run("render " + out.string() + " --size 64x64 -o " + (dir / "i.png").string());
+        EXPECT_EQ(shown.exit_code, 0) << shown.err;
+        EXPECT_EQ(lines(shown.err), 1) << shown.err;
+        EXPECT_NE(shown.err.find("NOT CONVERGED (interrupted)"), std::string::npos) << shown.err;
     }
 }
 
@@ -411,6 +432,31 @@ TEST(Cli, StrictTurnsGeometryWarningsIntoErrors) {
     EXPECT_NE(np.err.find("np.obj:7"), std::string::npos) << np.err;
     EXPECT_NE(np.err.find("non-planar"), std::string::npos) << np.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "np.vtu"));
+}
+
+TEST(Cli, AJsonMeshObjectWithAMaterialPassesStrict) {
+    // Issue 35: a closed room from an OBJ without materials and a lamp from a PLY, each given
+    // its material by the JSON scene: no "face(s) have no material" warning, and --strict runs.
+    test::TempDir dir;
+    dir.write("room.obj",
+              "v 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nv 0 3 0\nv 4 3 0\nv 4 3 4\nv 0 3 4\n"
+              "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 2 3 7 6\nf 1 5 8 4\n");
+    dir.write("lamp.ply",
+              "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+              "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+              "1.5 2.99 1.5\n2.5 2.99 1.5\n2.5 2.99 2.5\n1.5 2.99 2.5\n4 0 1 2 3\n");
+    const auto scene = dir.write("room.json", R"({"materials": {"white": {"reflectance": 0.7},
+        "lamp": {"reflectance": 0, "emission": 10}}, "objects": [
+        {"type": "mesh", "file": "room.obj", "material": "white"},
+        {"type": "mesh", "file": "lamp.ply", "material": "lamp"}]})");
+    const auto r = bounce_run("solve " + scene.string() + " --patches 300 -o " + (dir / "room.vtu").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("material"), std::string::npos) << r.err;
+    const auto strict =
+        bounce_run("solve " + scene.string() + " --strict --patches 300 -o " + (dir / "strict.vtu").string());
+    EXPECT_EQ(strict.exit_code, 0) << strict.err;
+    EXPECT_EQ(strict.err, "");
+    EXPECT_TRUE(std::filesystem::exists(dir / "strict.vtu"));
 }
 
 TEST(Cli, VisibilityBackendsGiveTheSameSolution) {
@@ -643,6 +689,16 @@ TEST(Cli, FacesWoundTheWrongWayAreReportedAndFlipTurnsThemBack) {
     // As wound wrongly, the walls get nothing at all; wound right, they are lit.
     EXPECT_EQ(lit_wrong, 0.0);
     EXPECT_GT(lit_right, 10.0);
+}
+
+TEST(Cli, SolveParaviewNamesTheScriptItWrote) {
+    test::TempDir dir;
+    const auto r = bounce_run("solve --max-area 8000 --paraview -o " + (dir / "x.vtu").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "x_paraview.py"));
+    EXPECT_NE(r.out.find("wrote " + (dir / "x.vtu").string() + " and " + (dir / "x_paraview.py").string()),
+              std::string::npos)
+        << r.out;
 }
 
 TEST(Cli, ViewWithoutADisplayIsAClearErrorAtOnce) {

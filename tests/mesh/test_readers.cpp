@@ -157,6 +157,38 @@ TEST(JsonScene, PlacesMeshFilesFromObjAndOff) {
     EXPECT_NEAR(s.surfaces[1].vertices[0].x, 0.5528, 1e-12);
 }
 
+TEST(JsonScene, AMeshObjectsMaterialReplacesTheFilesWithoutAWarning) {
+    // Issue 35: an OBJ without materials placed with a JSON material was reported as "5 face(s)
+    // have no material; using white 0.5" (and --strict refused the scene) although the JSON
+    // material was applied. An OBJ naming an undefined material is overridden the same way.
+    test::TempDir dir;
+    dir.write("open.obj",
+              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+              "f 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\nf 5 6 7 8\n");
+    dir.write("named.obj", "mtllib nowhere.mtl\nusemtl nope\nv 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
+    dir.write("quad.ply",
+              "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+              "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+              "0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+    const auto f =
+        dir.write("m.json", R"({"materials": {"w": {"reflectance": 0.3}, "r": {"reflectance": [0.6, 0.1, 0.1]}},
+        "objects": [{"type": "mesh", "file": "open.obj", "material": "w"},
+                    {"type": "mesh", "file": "named.obj", "material": "r", "transform": {"translate": [0, 0, 5]}},
+                    {"type": "mesh", "file": "quad.ply", "material": "w", "transform": {"translate": [0, 0, 9]}}]})");
+    const Scene s = read_json_scene(f);
+    ASSERT_EQ(s.surfaces.size(), 7u);
+    EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+    EXPECT_EQ(s.materials.size(), 2u);  // no unused default white
+    for (std::size_t k = 0; k < 5; ++k) EXPECT_EQ(s.materials[s.surfaces[k].material].reflectance, Rgb::gray(0.3));
+    EXPECT_EQ(s.materials[s.surfaces[5].material].reflectance, Rgb(0.6, 0.1, 0.1));
+    EXPECT_EQ(s.materials[s.surfaces[6].material].reflectance, Rgb::gray(0.3));
+    // Without the object's material, the file's own (missing) ones still warn.
+    const auto g = dir.write("g.json", R"({"objects": [{"type": "mesh", "file": "open.obj"}]})");
+    const Scene plain = read_json_scene(g);
+    ASSERT_EQ(plain.warnings.size(), 1u);
+    EXPECT_NE(plain.warnings[0].find("5 face(s) have no material"), std::string::npos) << plain.warnings[0];
+}
+
 TEST(CornellBox, MatchesThePublishedDataAndFacesInwards) {
     const Scene s = make_cornell_box();
     // Six surfaces of the room (the red wall as two triangles), five per block.

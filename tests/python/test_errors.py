@@ -78,3 +78,16 @@ def test_unwritable_output(tmp_path):
     with pytest.raises(ValueError, match="png"):
         sol.render(tmp_path / "picture.bmp")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_json_mesh_objects_material_is_not_reported_missing(tmp_path):
+    # Issue 35: the OBJ has no materials of its own, the JSON scene gives them one: no warning,
+    # and strict loads it.
+    (tmp_path / "open.obj").write_text(
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+        "f 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\nf 5 6 7 8\n")
+    scene = tmp_path / "s.json"
+    scene.write_text('{"materials": {"w": {"reflectance": 0.3}}, '
+                     '"objects": [{"type": "mesh", "file": "open.obj", "material": "w"}]}')
+    s = bounce.load(str(scene), patches=50, strict=True, quiet=True)
+    assert list(s.warnings) == []

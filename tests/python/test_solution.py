@@ -79,6 +79,21 @@ def test_solution_is_consistent(scene):
     assert sol.form_factor_seconds == 0 and np.all(h["residual"] == -1)
 
 
+@pytest.mark.parametrize("gather", ["vertices", "none"])
+def test_every_point_is_a_patch_corner(scene, gather):
+    # Issue 35: the regions contact cuts remove left vertices no patch used, with radiosity 0
+    # in point_radiosity. Every vertex is some face's corner, and the point data is all lit.
+    faces = scene.patches.faces
+    vertices = np.asarray(scene.patches.vertices)
+    used = np.unique(faces[faces >= 0])
+    assert len(used) == len(vertices)
+    assert used[0] == 0 and used[-1] == len(vertices) - 1
+    sol = bounce.solve(scene, tolerance=1e-4, gather=gather)
+    points = np.asarray(sol.point_radiosity)
+    assert points.shape == vertices.shape
+    assert points.max(axis=1).min() > 0
+
+
 def test_residuals_and_reference_columns(scene):
     # With the matrix built, shooting logs the relative residual; against a reference solution
     # it logs the error, which must end at the distance to that reference.

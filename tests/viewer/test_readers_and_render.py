@@ -138,6 +138,59 @@ class Files(unittest.TestCase):
         self.assertGreater(seconds[-1], seconds[1])
 
 
+class PointsInUse(unittest.TestCase):
+    """Issue 35: every point of a written .vtu is a corner of some cell (the regions contact cuts
+    remove left 74 stray points of radiosity 0 in the default file, which started ParaView's
+    range at 0), and the point arrays match the points."""
+
+    def assert_every_point_used(self, path):
+        g = vtk_read(path)
+        used = np.zeros(g.GetNumberOfPoints(), dtype=bool)
+        ids = vtk.vtkIdList()
+        for c in range(g.GetNumberOfCells()):
+            g.GetCellPoints(c, ids)
+            for k in range(ids.GetNumberOfIds()):
+                used[ids.GetId(k)] = True
+        self.assertGreater(g.GetNumberOfCells(), 0, path)
+        self.assertEqual(int(used.sum()), g.GetNumberOfPoints(), f"{path}: {int((~used).sum())} points unused")
+        pd = g.GetPointData()
+        for k in range(pd.GetNumberOfArrays()):
+            self.assertEqual(pd.GetArray(k).GetNumberOfTuples(), g.GetNumberOfPoints(), pd.GetArrayName(k))
+        # No stray zeros: every point on a lit surface is lit.
+        self.assertGreater(vtk_to_numpy(pd.GetArray("radiosity")).max(axis=1).min(), 0.0, path)
+        return g
+
+    def test_every_kind_of_output(self):
+        runs = {
+            "uniform": [],
+            "hierarchical": ["--solver", "hierarchical"],
+            "adaptive": ["--adaptive"],
+            "display": ["--solver", "hierarchical", "--display-tolerance", "0.0025"],
+        }
+        for name, args in runs.items():
+            vtu = os.path.join(TMP, f"used_{name}.vtu")
+            r = bounce("solve", "-q", "-o", vtu, *args)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            g = self.assert_every_point_used(vtu)
+            print(name, g.GetNumberOfCells(), "cells", g.GetNumberOfPoints(), "points")
+        # The series' snapshots (and its final file).
+        vtu = os.path.join(TMP, "used_series.vtu")
+        r = bounce("solve", "-q", "--max-area", "4000", "--series", "500", "-o", vtu)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        sets = ET.parse(os.path.join(TMP, "used_series.pvd")).getroot().find("Collection").findall("DataSet")
+        self.assertGreaterEqual(len(sets), 2)
+        for s in sets:
+            path = os.path.join(TMP, s.get("file"))
+            g = vtk_read(path)
+            used = set()
+            ids = vtk.vtkIdList()
+            for c in range(g.GetNumberOfCells()):
+                g.GetCellPoints(c, ids)
+                used.update(ids.GetId(k) for k in range(ids.GetNumberOfIds()))
+            self.assertEqual(len(used), g.GetNumberOfPoints(), path)
+        self.assert_every_point_used(vtu)
+
+
 def png(path):
     a = matplotlib.image.imread(path)
     return a[:, :, :3]
@@ -183,9 +236,9 @@ class Pictures(unittest.TestCase):
         self.assertGreater(toward_red[0] / toward_red[1], 1.15 * toward_green[0] / toward_green[1])
 
     def test_display_rgb_is_the_rendered_picture(self):
-        # The file's display_rgb (for ParaView, Map Scalars off) is what render draws: sample
-        # points on the back wall, the ceiling, the red and green walls and the floor.
-        img = self.render("display.png", "--size", "800x800")
+        # The file's cell display_rgb (for ParaView, Map Scalars off) is what render --flat draws:
+        # sample points on the back wall, the ceiling, the red and green walls and the floor.
+        img = self.render("display.png", "--size", "800x800", "--flat")
         g = vtk_read(self.vtu)
         rgb = vtk_to_numpy(g.GetCellData().GetArray("display_rgb"))
         self.assertEqual(rgb.dtype, np.uint8)
@@ -209,6 +262,31 @@ class Pictures(unittest.TestCase):
         flat = self.render("flat.png", "--size", "200x200", "--flat")
         smooth = self.render("smooth.png", "--size", "200x200", "--smooth")
         self.assertGreater(np.abs(flat - smooth).mean(), 0.002)
+
+    def test_the_default_picture_is_the_smooth_point_data(self):
+        # Issue 35: the point data is the default picture (as the ParaView script shows it);
+        # --flat keeps the patch values.
+        default = self.render("default.png", "--size", "200x200")
+        smooth = self.render("smooth_again.png", "--size", "200x200", "--smooth")
+        flat = self.render("flat_again.png", "--size", "200x200", "--flat")
+        np.testing.assert_array_equal(default, smooth)
+        self.assertGreater(np.abs(default - flat).mean(), 0.002)
+
+    def test_an_unfinished_solution_says_so_in_the_corner(self):
+        # Issue 35: a caption (yellow on dark) in the lower left corner of a picture of an
+        # unconverged solution; none on a converged one.
+        vtu = os.path.join(TMP, "unfinished.vtu")
+        r = bounce("solve", "--max-area", "8000", "--max-shots", "3", "-q", "-o", vtu)
+        self.assertEqual(r.returncode, 3, r.stderr)
+        out = os.path.join(TMP, "unfinished.png")
+        r = bounce("render", vtu, "-o", out, "--size", "400x400")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("NOT CONVERGED (max iterations)", r.stderr)
+        def yellow(img):
+            corner = img[-40:, :300]
+            return ((corner[:, :, 0] > 0.8) & (corner[:, :, 1] > 0.6) & (corner[:, :, 2] < 0.4)).sum()
+        self.assertGreater(yellow(png(out)), 50)
+        self.assertEqual(yellow(self.render("finished.png", "--size", "400x400")), 0)
 
     def test_missing_or_corrupt_input_is_one_line_exit_two(self):
         bad = os.path.join(TMP, "corrupt.vtu")
@@ -286,8 +364,12 @@ class ParaViewScript(unittest.TestCase):
         with open(script) as f:
             text = f.read()
         compile(text, script, "exec")  # valid Python
-        self.assertIn('ColorBy(display, ("CELLS", "display_rgb"))', text)
+        # The smooth point data, as render draws by default (issue 35), unlit, used as colours.
+        self.assertIn('ColorBy(display, ("POINTS", "display_rgb"))', text)
+        self.assertNotIn('"CELLS", "display_rgb"', text.split("ColorBy(")[1])
         self.assertIn("display.MapScalars = 0", text)
+        self.assertIn("display.Ambient = 1.0", text)
+        self.assertIn("display.Diffuse = 0.0", text)
         self.assertIn("view.CameraPosition = [278, 273, -800]", text)  # render's camera for the box
         self.assertIn("view.CameraViewAngle = 39", text)
         # With ParaView (BOUNCE_PVBATCH: a pvbatch command, e.g. shared/tools/paraview.sh), its
