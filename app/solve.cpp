@@ -213,7 +213,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
                                    shooters->patches(), P, s.method == "analytic" ? nullptr : visibility.get(), s.ff)
                              : make_form_factor_estimator(s.method, P, visibility.get(), s.ff);
     const bool shooting = s.solver == "shooting";
-    ProgressLine progress(!o.quiet, shooting ? "shot" : "sweep", shooting ? "unshot" : "residual");
+    ProgressLine progress(!o.quiet, shooting ? "shot" : "sweep", shooting ? "error" : "residual");
     std::optional<FormFactorMatrix> matrix;
     if (s.solver != "shooting") {
         matrix = FormFactorMatrix::build(
@@ -291,7 +291,8 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     if (!o.quiet) {
         std::cout << "patches " << (elements ? std::to_string(shooters->size()) + ", elements " : "") << mesh.size()
                   << ", " << s.solver << " " << res.steps << (s.solver == "shooting" ? " shots" : " sweeps");
-        if (s.solver == "shooting") std::cout << ", unshot fraction " << res.unshot_fraction;
+        if (s.solver == "shooting")
+            std::cout << ", unshot fraction " << res.unshot_fraction << ", estimated error " << res.error_estimate;
         if (res.residual >= 0) std::cout << ", residual " << res.residual;
         std::cout << (res.converged ? "" : " (NOT converged: " + res.status + ")") << ", " << res.seconds << " s\n"
                   << "wrote " << out.string() << (series ? " and " + series->pvd().string() : "")
@@ -300,8 +301,10 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     }
     if (!res.converged && !o.quiet) {
         std::cerr << "bounce: not converged (" << res.status << "), last "
-                  << (res.residual >= 0 ? "residual " + std::to_string(res.residual)
-                                        : "unshot fraction " + std::to_string(res.unshot_fraction))
+                  << (res.residual >= 0         ? "residual " + std::to_string(res.residual)
+                      : res.error_estimate >= 0 ? "estimated error " + number_text(res.error_estimate) +
+                                                      ", unshot fraction " + number_text(res.unshot_fraction)
+                                                : "unshot fraction " + std::to_string(res.unshot_fraction))
                   << "; the partial solution was written\n";
     }
     return res.converged ? 0 : 3;
@@ -371,13 +374,16 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->check(in_range(0, 12));
     solve->tolerance = solve_cmd
                            ->add_option("--tolerance", solve->options.tolerance,
-                                        "stop below this unshot fraction (shooting), relative residual (others) or "
-                                        "largest change of an element's radiosity per iteration, relative to the "
-                                        "mean (hierarchical); 1e-3, hierarchical 1e-6")
+                                        "shooting: stop when the largest relative error of a patch that the "
+                                        "light still unshot would add, estimated from the convergence so far, is "
+                                        "below this; the others: relative residual, or largest change of an "
+                                        "element's radiosity per iteration, relative to the mean (hierarchical); "
+                                        "1e-3, hierarchical 1e-6")
                            ->check(kPositive);
     solve_cmd->add_option("--max-shots,--max-iterations", solve->options.max_iterations,
-                          "stop after this many shots or sweeps (default 100 N shots, 10000 sweeps, "
-                          "hierarchical 1000 iterations)");
+                          "stop after this many shots or sweeps (default: no shot limit, shooting stops as "
+                          "stalled when the unshot power stops falling; 10000 sweeps; hierarchical 1000 "
+                          "iterations)");
     auto& only = solve->patch_solver_only;
     only.emplace_back("--max-seconds",
                       solve_cmd->add_option("--max-seconds", solve->options.max_seconds, "stop after this many seconds")

@@ -61,7 +61,7 @@ struct Progress {
     std::string stage;       // "form factors", "solve", "gathering: vertices", ...
     std::size_t step = 0;    // rows, shots, sweeps or points done
     std::size_t total = 0;   // of how many (0: unknown)
-    double value = -1.0;     // solve: unshot fraction (shooting) or relative residual
+    double value = -1.0;     // solve: estimated relative error (shooting) or relative residual
     double tolerance = 0.0;  // solve: the value it stops under
     double seconds = 0.0;    // since the stage began
 };
@@ -693,7 +693,8 @@ PYBIND11_MODULE(_bounce, m) {
                       "'path tracing: points'")
         .def_readonly("step", &Progress::step, "rows, shots, sweeps, links, iterations or points done")
         .def_readonly("total", &Progress::total, "of how many (0: unknown)")
-        .def_readonly("value", &Progress::value, "solve: unshot fraction (shooting) or relative residual; else -1")
+        .def_readonly("value", &Progress::value,
+                      "solve: estimated relative error (shooting) or relative residual; else -1")
         .def_readonly("tolerance", &Progress::tolerance, "solve: the value it stops below")
         .def_readonly("seconds", &Progress::seconds)
         .def("__repr__", [](const Progress& p) {
@@ -874,6 +875,10 @@ PYBIND11_MODULE(_bounce, m) {
         .def_property_readonly("status", [](const SolutionData& s) { return s.result.status; })
         .def_property_readonly("residual", [](const SolutionData& s) { return s.result.residual; })
         .def_property_readonly("unshot_fraction", [](const SolutionData& s) { return s.result.unshot_fraction; })
+        .def_property_readonly(
+            "error_estimate", [](const SolutionData& s) { return s.result.error_estimate; },
+            "shooting: the largest relative error of a patch that the unshot power left would still add, as "
+            "estimated from the convergence (what tolerance bounds); else -1")
         .def_property_readonly("emitted_power", [](const SolutionData& s) { return rgb_copy(s.result.emitted_power); })
         .def_property_readonly("absorbed_power",
                                [](const SolutionData& s) { return rgb_copy(s.result.absorbed_power); })
@@ -935,8 +940,10 @@ PYBIND11_MODULE(_bounce, m) {
           "solver with power_epsilon 1e-5 unless given; target_error and max_patches are retired and refused; "
           "display_tolerance, hierarchical only, above 0 splits elements for display where linear interpolation of "
           "the point data would miss the gathered light: 0.0025 suits the Cornell box; 0 (off) unless given). "
-          "Unset, tolerance is 1e-3 (hierarchical: 1e-6, the largest change of an element per iteration relative to "
-          "the mean), max_iterations 100 N shots or 10000 sweeps (hierarchical: 1000), max_seconds none, sor 1, "
+          "Unset, tolerance is 1e-3 (shooting: the largest relative error of a patch that the light still unshot "
+          "would add, as estimated from the convergence; hierarchical: 1e-6, the largest change of an element per "
+          "iteration relative to the mean), max_iterations none for shooting (it stops as stalled when the unshot "
+          "power stops falling) or 10000 sweeps (hierarchical: 1000), max_seconds none, sor 1, "
           "overshoot off, cache_mb 1024; max_seconds, sor, overshoot and cache_mb are refused with adaptive or "
           "hierarchical. "
           "residuals=True builds the matrix for shooting too, so its history has residuals; reference (N x 3) "

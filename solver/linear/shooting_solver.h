@@ -13,7 +13,12 @@ namespace bounce {
 /// dB_i A_i and shoots it: every patch j receives dH_j = dB_i F_ij A_i / A_j, reflects
 /// rho_j dH_j, and that reflected part becomes j's unshot radiosity. Needs one form-factor row
 /// per shot, never the whole matrix (rows of re-shooting patches are cached within a budget).
-/// Stops when the unshot power falls below `tolerance` of the emitted power. The ambient term
+/// Stops on the error it leaves: when the largest relative error of a patch's radiosity that
+/// the unshot power would still add, estimated from the rate the unshot power has been falling
+/// at and where the last stretch of shooting sent its light, is below `tolerance`
+/// (SolveResult::error_estimate). Without a shot limit it stops as "stalled" when the unshot
+/// power does not halve while a thousand times it is shot (reflectance ~1 in a closed scene,
+/// or rows summing above 1). The ambient term
 /// (the unshot power spread uniformly and inter-reflected, 1/(1 - mean rho)) gives a display
 /// estimate of an unfinished solution in SolveResult::display.
 using ShootingOptions = SolverOptions;

@@ -35,9 +35,13 @@ struct SolveResult {
     std::size_t steps = 0;         // shots, or sweeps for iterative solvers
     double seconds = 0.0;          // wall time of the solve, form factors included
     double unshot_fraction = 0.0;  // unshot power / emitted power, summed over channels
+    // Shooting: the largest relative error of a patch's radiosity (channel sums) that the unshot
+    // power left would still add, as estimated from the convergence so far (infinite until
+    // known); the solve stops below its tolerance.
+    double error_estimate = -1.0;
     bool converged = false;
     double residual = -1.0;  // last relative residual, when computed
-    std::string status;      // "converged", "max iterations", "max seconds", "diverged"
+    std::string status;      // "converged", "max iterations", "max seconds", "diverged", "stalled"
     Rgb emitted_power, absorbed_power, escaped_power, unshot_power;
     Rgb shot_power;  // shooting: all power shot; -escaped / shot is the mean row surplus of a closed scene
     std::vector<ConvergenceRecord> log;

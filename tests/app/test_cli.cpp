@@ -760,6 +760,32 @@ TEST(Cli, TheFirstHourPapercuts) {
     EXPECT_FALSE(std::filesystem::exists(dir / "x.bmp"));
 }
 
+TEST(Cli, ABrightClosedBoxConvergesWithTheDefaultsAndAWhiteOneStalls) {
+    // Issue 34: at rho 0.97 the defaults stopped at 100 N shots (exit 3). Now there is no shot
+    // limit unless given: rho 0.99 converges, and the summary gives the estimated error left.
+    test::TempDir dir;
+    const auto bright = dir.write("bright.json", R"({"materials": {"w": {"reflectance": 0.99, "emission": 1}},
+        "objects": [{"type": "box", "material": "w", "inward": true, "transform": {"scale": [2, 1.5, 1]}}]})");
+    const auto r =
+        bounce_run("solve " + bright.string() + " --patches 216 --gather none -o " + (dir / "b.vtu").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto at = r.out.find(", estimated error ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    EXPECT_LT(std::stod(r.out.substr(at + std::string(", estimated error ").size())), 1e-3) << r.out;
+    const auto shots = r.out.find(" shots");
+    ASSERT_NE(shots, std::string::npos) << r.out;
+    const auto from = r.out.rfind(' ', shots - 1) + 1;
+    EXPECT_GT(std::stoul(r.out.substr(from, shots - from)), 100u * 216u) << r.out;
+    // Reflectance 1: the unshot power never falls; the solve says so instead of running on.
+    const auto white = dir.write("white.json", R"({"materials": {"w": {"reflectance": 1, "emission": 1}},
+        "objects": [{"type": "box", "material": "w", "inward": true}]})");
+    const auto stuck =
+        bounce_run("solve " + white.string() + " --max-edge 0.5 --gather none -o " + (dir / "w.vtu").string());
+    EXPECT_EQ(stuck.exit_code, 3) << stuck.err;
+    EXPECT_NE(stuck.err.find("not converged (stalled)"), std::string::npos) << stuck.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "w.vtu"));
+}
+
 TEST(Cli, ShootingWarnsWhenTheRowsItShotSumAboveOne) {
     // A closed furnace box (rho 0.9): the default rows sum to 1 within 1e-6, so no warning; a
     // 16-pixel hemicube overshoots by about 2e-3 per row, and the solve says so, with the number.
