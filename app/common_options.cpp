@@ -166,6 +166,10 @@ void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
     cmd->add_option("--rays", f.visibility_rays,
                     "visibility rays per patch pair (raycast; 2, with --adaptive or the hierarchical solver 4)")
         ->check(in_range(1, 4096));
+    cmd->add_option("--partial-rays", f.partial_rays,
+                    "raycast: pairs that a pilot of --rays rays finds partly blocked are traced with this many "
+                    "fresh rays, the others with --rays fresh ones; 0: no pilot (0)")
+        ->check(in_range(0, 4096));
     cmd->add_option("--receiver-samples", f.receiver_samples,
                     "points per side of each receiver (raycast); 0: adaptive (0)")
         ->check(in_range(0, 16));

@@ -38,6 +38,12 @@ struct FormFactorOptions {
     double exact_tolerance = 1e-8;       // exact method: relative error of unoccluded pairs
     double visibility_tolerance = 1e-3;  // exact method: partial pairs stop when two orders agree
                                          // within this fraction of the unoccluded factor
+    /// Raycast: a pilot of visibility_rays rays picks the partly blocked pairs, which are then
+    /// traced with this many fresh rays (the others with visibility_rays fresh ones); 0 or no
+    /// more than visibility_rays: no pilot. Two rays can only say 0, 1/2 or 1; more rays on
+    /// the partial pairs lower the noise in shadows and at contacts, for about half again the
+    /// ray-casting time on the Cornell box, where the mesh rather than the rays limits the error.
+    int partial_rays = 0;
 };
 
 /// `o` with visibility_rays 0 (the default) replaced by `rays`.

@@ -58,6 +58,10 @@ public:
     const ShaftCuller* culler() const { return m_culler.get(); }
 
 private:
+    /// The kernel-weighted share of `ray_count` stratified rays that arrive; `salt` picks an
+    /// independent set of rays for the same pair.
+    double traced_fraction(std::size_t i, std::size_t j, int ray_count, std::uint64_t salt) const;
+
     /// F_ij: with receiver_samples 0, the unoccluded factor to unoccluded_tolerance times the
     /// visible fraction; otherwise n x n receiver points on j (the exact kernel covers i).
     double directed(std::size_t i, std::size_t j, double visible = -1.0) const;

@@ -203,3 +203,47 @@ TEST(ShootingSolver, DefaultStopLeavesItsToleranceWhereOnlyInterreflectionLights
     EXPECT_LT(far, 1.1e-3);
     EXPECT_GT(far, 0.3e-3) << "the far leg is where the error is left";
 }
+
+TEST(ShootingSolver, FurnaceWithAFloatingBlockIsFlat) {
+    // A closed 2 x 2 x 2 room with a block [0.6,1.4]^2 x [0.5,1.3] floating in it, every face
+    // emitting 1 and reflecting 0.9: B = 10 everywhere, whatever blocks what. Where the pairs
+    // the block partly hides take their visible share from too few rays, rows stop summing to
+    // one and 1/(1-rho) amplifies it.
+    Scene s = closed_box({2, 2, 2}, {"w", Rgb::gray(0.9), Rgb::gray(1)});
+    const double x0 = 0.6, x1 = 1.4, y0 = 0.6, y1 = 1.4, z0 = 0.5, z1 = 1.3;
+    const std::vector<std::vector<glm::dvec3>> block = {
+        {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},  // top, facing +z
+        {{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},  // bottom, facing -z
+        {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},  // facing -y
+        {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}},  // facing +y
+        {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},  // facing -x
+        {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}},  // facing +x
+    };
+    for (const auto& f : block) s.surfaces.push_back({f, 0, "block", {"test", 0}});
+    MeshingOptions o;
+    o.max_edge = 0.2 * (1 + 1e-9);
+    const PatchMesh mesh(s, o);
+    const auto vis = make_visibility("embree", mesh.patches());
+    double spread[2] = {0, 0};
+    for (const int partial : {0, 16}) {
+        FormFactorOptions fo;
+        fo.partial_rays = partial;
+        const auto ff = make_form_factor_estimator("raycast", mesh.patches(), vis.get(), fo);
+        ShootingOptions so;
+        so.tolerance = 1e-7;
+        const SolveResult r = ShootingSolver(mesh.patches(), *ff, so).solve();
+        ASSERT_TRUE(r.converged);
+        double lo = 1e300, hi = 0;
+        for (const auto& b : r.radiosity) {
+            lo = std::min(lo, b[0]);
+            hi = std::max(hi, b[0]);
+        }
+        std::printf("furnace with a floating block, %zu patches, partial rays %d: B from %.4f to %.4f\n", mesh.size(),
+                    partial, lo, hi);
+        spread[partial ? 1 : 0] = hi - lo;
+        // Exact is 10 everywhere; what is left is the noise of 2 rays a pair (16 where partly
+        // blocked). Issue 34 asks for 0.1%, which rays alone do not reach.
+        EXPECT_LT(std::max(10 - lo, hi - 10), 0.12);
+    }
+    EXPECT_LT(spread[1], spread[0]);
+}
