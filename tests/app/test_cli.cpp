@@ -404,6 +404,12 @@ TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
         {"--max-area 4000 --max-memory 1 --solver jacobi", "form-factor matrix ("},
         {"--max-area 4000 --max-memory 3 --solver direct", "direct solver"},
         {"--max-memory 1", "more than the limit of 1024"},
+        // Issue 35: a huge --patches is refused with advice that lowers it, not --max-area.
+        {"--patches 10000000", "limit of 2000000: lower --patches, or solve with --solver hierarchical"},
+        {"--patches 1000000 --max-memory 500",
+         "that --max-memory 500 MB allows (about 982 MB at 1 KB a patch): "
+         "lower --patches"},
+        {"--max-area 1e-4", "raise --max-area, or solve with --solver hierarchical"},
     };
     for (const auto& c : cases) {
         const auto out = dir / "x.vtu";
@@ -746,6 +752,9 @@ TEST(Cli, TheFirstHourPapercuts) {
     const auto many = bounce_run("info --max-area 20");
     EXPECT_EQ(many.exit_code, 0) << many.err;
     EXPECT_NE(many.err.find("note: meshing into 9"), std::string::npos) << many.err;
+    EXPECT_NE(many.err.find("a shooting solve of as many takes about 25 minutes on 2 cores"), std::string::npos)
+        << many.err;
+    EXPECT_EQ(lines(many.err), 1) << many.err;
     // render -o x.jpg writes JPEG bytes; an unknown picture format is refused before work.
     const auto vtu = dir / "small.vtu";
     ASSERT_EQ(bounce_run("solve -q --max-area 8000 -o " + vtu.string()).exit_code, 0);
