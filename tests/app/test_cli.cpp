@@ -871,3 +871,36 @@ TEST(Cli, PrintedSecondsAreTheWallTimeOfTheSolveAndGather) {
         EXPECT_GE(printed, 0.9 * (wall - startup)) << c.solver << ": " << r.out;
     }
 }
+
+// Issue 35: compare --meshes shows progress only on a terminal, and on Ctrl-C writes the rows
+// of the runs done (a run cut short keeps none) and exits 130.
+TEST(Cli, CompareMeshesWritesTheRunsDoneOnInterrupt) {
+    test::TempDir dir;
+    // The probes first: path traced once and cached in the folder, so the next run starts at once.
+    const std::string base =
+        kExe + " compare --meshes --reference-level 0 --methods patches --out " + dir.path().string();
+    const auto probes = test::run(base + " -q --patch-counts 50");
+    ASSERT_EQ(probes.exit_code, 0) << probes.err;
+    // 100 patches (well under a second), then 30000 (minutes); the signal comes at 8 s.
+    const auto r =
+        test::run("sh -c '" + base + " --patch-counts 100,30000 & pid=$!; sleep 8; kill -INT $pid; wait $pid'");
+    EXPECT_EQ(r.exit_code, 130) << r.err;
+    EXPECT_EQ(r.err.find('\r'), std::string::npos) << "no progress line when piped";
+    EXPECT_NE(r.err.find("interrupted; wrote the 1 run done of 2 to "), std::string::npos) << r.err;
+    const std::string csv = slurp(dir / "meshes.csv");
+    EXPECT_EQ(csv.rfind("method,setting,elements,links,seconds,", 0), 0u) << csv;
+    EXPECT_NE(csv.find("\npatches,--patches 100,"), std::string::npos) << csv;
+    EXPECT_EQ(csv.find("30000"), std::string::npos) << csv;
+    EXPECT_EQ(lines(csv), 2) << csv;
+    EXPECT_TRUE(no_temporaries(dir.path()));
+}
+
+TEST(Cli, CompareMeshesWithoutAReferenceSaysSo) {
+    test::TempDir dir;
+    const auto r = bounce_run("compare --meshes --reference-level 0 --methods patches --patch-counts 50 --out " +
+                              dir.path().string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.out.find("against 0 uniform elements"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("no fine uniform elements to compare with (--reference-level 0)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" gathered\n"), std::string::npos) << r.out;  // the points column
+}
