@@ -119,9 +119,10 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         r.radiosity = B;
         gathered = false;
         if (c.gather != "none" && double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs) {
+            const auto t0 = std::chrono::steady_clock::now();  // the gather's visibility counted too
             const auto v = make_visibility(o.visibility, m.patches());
             gathered = gather_point_values(m, *v, r, "vertices", true);
-            seconds += r.seconds;
+            seconds += seconds_since(t0);
         }
         return score_at_probes(m, B, probes, r.point_radiosity);
     };
@@ -133,14 +134,26 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         bool gathered = false;  // point data gathered (else averaged: beyond the gather's budget, or --gather none)
     };
     std::vector<Row> rows;
-    auto add_row = [&](std::string method, std::string setting, std::size_t links, double seconds, double rms,
-                       const PatchMesh& m, const std::vector<Rgb>& B) {
-        Row r{std::move(method), std::move(setting), m.size(), links, seconds, rms, {}, false};
-        r.probe = score_mesh(m, B, r.seconds, r.gathered);
-        rows.push_back(std::move(r));
-    };
     auto wanted = [&](const char* method) {
         return std::find(c.mesh_methods.begin(), c.mesh_methods.end(), method) != c.mesh_methods.end();
+    };
+    // A progress line on a terminal, a run at a time; a run cut short by a signal keeps no row
+    // (the rows done are written below).
+    const std::size_t total_runs =
+        (c.reference_level > 0 ? 1 : 0) + (wanted("uniform") ? std::size_t(c.reference_level) : 0) +
+        (wanted("patches") ? c.patch_counts.size() : 0) + (wanted("discontinuity") ? c.patch_counts.size() : 0) +
+        (wanted("adaptive") ? c.targets.size() : 0) +
+        (wanted("hierarchical") ? c.link_epsilons.size() * c.power_epsilons.size() : 0);
+    ProgressLine progress(!o.quiet);
+    std::size_t runs_done = 0;
+    auto starting = [&](const std::string& what) { progress.runs("compare --meshes", runs_done, total_runs, what); };
+    auto add_row = [&](std::string method, std::string setting, std::size_t links, double seconds, double rms,
+                       const PatchMesh& m, const std::vector<Rgb>& B) {
+        ++runs_done;
+        if (g_interrupted.load()) return;
+        Row r{std::move(method), std::move(setting), m.size(), links, seconds, rms, {}, false};
+        r.probe = score_mesh(m, B, r.seconds, r.gathered);
+        if (!g_interrupted.load()) rows.push_back(std::move(r));
     };
     // The fine uniform elements ("vs fine"); --reference-level 0 skips them (a large scene's
     // fine elements would need patches x elements form factors).
@@ -149,11 +162,13 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         return reference ? rms_difference(tree, leaves, B, *reference) : -1.0;
     };
     if (c.reference_level > 0) {
+        starting("reference, uniform level " + std::to_string(c.reference_level));
         reference = solve_uniform_elements(P, *visibility, c.reference_level, a);
         add_row("reference", "uniform level " + std::to_string(c.reference_level), 0, reference->result.seconds, 0.0,
                 reference->tree.conforming_mesh(reference->leaves), reference->result.radiosity);
     }
-    for (int level = 0; level < c.reference_level && wanted("uniform"); ++level) {
+    for (int level = 0; level < c.reference_level && wanted("uniform") && !g_interrupted.load(); ++level) {
+        starting("uniform level " + std::to_string(level));
         const AdaptiveSolution u = solve_uniform_elements(P, *visibility, level, a);
         add_row("uniform", "level " + std::to_string(level), 0, u.result.seconds,
                 vs_fine(u.tree, u.leaves, u.result.radiosity), u.tree.conforming_mesh(u.leaves), u.result.radiosity);
@@ -163,6 +178,9 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     for (const auto kind : {MeshingOptions::Kind::uniform, MeshingOptions::Kind::discontinuity}) {
         if (!wanted(kind == MeshingOptions::Kind::uniform ? "patches" : "discontinuity")) continue;
         for (const std::size_t n : c.patch_counts) {
+            if (g_interrupted.load()) break;
+            starting(std::string(kind == MeshingOptions::Kind::uniform ? "patches" : "discontinuity") + " --patches " +
+                     std::to_string(n));
             const auto t0 = std::chrono::steady_clock::now();
             MeshingOptions m = o.meshing;
             m.kind = kind;
@@ -182,11 +200,12 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     }
     for (const double target : c.targets) {
         if (!wanted("adaptive") || g_interrupted.load()) break;
+        std::ostringstream setting;
+        setting << "target " << target;
+        starting("adaptive " + setting.str());
         AdaptiveOptions t = a;
         t.target_error = target;
         const AdaptiveSolution s = solve_adaptive(P, *visibility, t);
-        std::ostringstream setting;
-        setting << "target " << target;
         add_row("adaptive", setting.str(), 0, s.result.seconds, vs_fine(s.tree, s.leaves, s.result.radiosity),
                 s.tree.conforming_mesh(s.leaves), s.result.radiosity);
     }
@@ -196,6 +215,12 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     for (const double eps : c.link_epsilons)
         for (const double power_eps : c.power_epsilons) {
             if (!wanted("hierarchical") || g_interrupted.load()) break;
+            {
+                std::ostringstream what;
+                what << "hierarchical link epsilon " << eps;
+                if (power_eps > 0) what << " power epsilon " << power_eps;
+                starting(what.str());
+            }
             const auto t0 = std::chrono::steady_clock::now();
             HierarchicalOptions h;
             h.form_factors = c.ff;
@@ -234,10 +259,11 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
                     r.probe = score_at_probes(elements, g.radiosity, probes, g.point_radiosity);
                 }
                 r.seconds += g.seconds;
-                rows.push_back(std::move(r));
+                if (!g_interrupted.load()) rows.push_back(std::move(r));
             }
+            ++runs_done;
         }
-    if (interrupted_exit_code()) return interrupted_exit_code();
+    progress.finish();
     std::ostringstream csv;
     csv << "method,setting,elements,links,seconds,rms_error," << kProbeColumns << ",point_data\n";
     for (const auto& r : rows) {
@@ -248,6 +274,11 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     const std::filesystem::path dir = c.out;
     write_text_file(
         dir / "meshes.csv", [&](std::ostream& out) { out << csv.str(); }, "mesh comparison");
+    if (interrupted_exit_code()) {
+        std::cerr << "bounce: interrupted; wrote the " << rows.size() << " run" << (rows.size() == 1 ? "" : "s")
+                  << " done of " << total_runs << " to " << (dir / "meshes.csv").string() << " (no charts)\n";
+        return interrupted_exit_code();
+    }
     // The error map: every probe's error for the uniform patch mesh nearest the default size.
     const Row* map_row = nullptr;
     for (const auto& r : rows)
@@ -284,20 +315,24 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     }
     write_mesh_charts(dir);
     if (!o.quiet) {
+        const std::string vs_fine_text = reference
+                                             ? "RMS error of the reflected radiosity against " +
+                                                   std::to_string(reference->leaves.size()) + " uniform elements"
+                                             : "empty, no fine uniform elements to compare with (--reference-level 0)";
         std::printf(
-            "%zu patches shoot to the elements; \"vs fine\": RMS error of the reflected radiosity against "
-            "%zu uniform elements; \"probe\": relative RMS luminance error at %zu path-traced probes "
-            "(their own noise %.2f%%)\n",
-            P.size(), reference ? reference->leaves.size() : std::size_t(0),
-            rows.empty() ? std::size_t(0) : rows.front().probe.scored,
+            "%zu patches shoot to the elements; \"vs fine\": %s; \"probe\": relative RMS luminance error at %zu "
+            "path-traced probes (their own noise %.2f%%); seconds: the whole run, form factors, solve and gather; "
+            "\"points\": the point data gathered, or averaged from the patches (beyond the gather's budget, or "
+            "--gather none)\n",
+            P.size(), vs_fine_text.c_str(), rows.empty() ? std::size_t(0) : rows.front().probe.scored,
             rows.empty() ? 0.0 : 100 * rows.front().probe.reference_noise);
-        std::printf("%-13s %-18s %9s %10s %9s %9s %11s %12s\n", "method", "setting", "elements", "links", "seconds",
-                    "vs fine", "probe patch", "probe smooth");
+        std::printf("%-13s %-18s %9s %10s %9s %9s %11s %12s %9s\n", "method", "setting", "elements", "links", "seconds",
+                    "vs fine", "probe patch", "probe smooth", "points");
         for (const auto& r : rows)
-            std::printf("%-13s %-18s %9zu %10s %9.3f %9s %10.2f%% %11.2f%%\n", r.method.c_str(), r.setting.c_str(),
+            std::printf("%-13s %-18s %9zu %10s %9.3f %9s %10.2f%% %11.2f%% %9s\n", r.method.c_str(), r.setting.c_str(),
                         r.elements, r.links ? std::to_string(r.links).c_str() : "-", r.seconds,
                         r.rms >= 0 ? std::to_string(r.rms).substr(0, 6).c_str() : "-", 100 * r.probe.rms_patch,
-                        100 * r.probe.rms_smooth);
+                        100 * r.probe.rms_smooth, r.gathered ? "gathered" : "averaged");
         std::cout << "wrote " << (dir / "meshes.csv").string() << " and meshes.png\n";
     }
     return 0;

@@ -47,6 +47,16 @@ public:
         std::fprintf(stderr, "\r%s %zu / %zu, %.1f s   ", what, done, total, now);
         m_shown = true;
     }
+    /// Runs of a series ("compare --meshes: 3 / 19 runs, hierarchical link epsilon 0.4"),
+    /// shown at once: called as each run starts, from one thread.
+    void runs(const char* what, std::size_t done, std::size_t total, const std::string& running) {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        if (!m_enabled) return;
+        const double now = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+        m_last = now;
+        std::fprintf(stderr, "\r%s: %zu / %zu runs done, %.1f s; now %-40s", what, done, total, now, running.c_str());
+        m_shown = true;
+    }
     void finish() {
         std::lock_guard<std::mutex> lock(m_mutex);
         m_last = 0.0;

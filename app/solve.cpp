@@ -2,6 +2,7 @@
 // bounce solve: radiosity of a scene, written as a .vtu (and optionally a .pvd series, a PNG
 // and a convergence log); --adaptive and --solver hierarchical solve on quadtree elements.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -79,6 +80,23 @@ std::string default_output(const std::string& scene) {
     return std::filesystem::path(scene).stem().string() + ".vtu";
 }
 
+/// The seconds solve prints, writes and logs: the wall time from the meshed scene to the
+/// gathered point data (visibility, form factors, refinement, solve and gather), for every solver.
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// ", 17.3 s (form factors, refinement, solve and gather; gather 10.9 s)": what the printed
+/// seconds count (the gather when it ran: `gather_seconds` above 0).
+std::string seconds_text(double seconds, double gather_seconds, bool hierarchical) {
+    std::ostringstream s;
+    s.precision(3);
+    s << ", " << seconds << " s (form factors, " << (hierarchical ? "refinement, " : "") << "solve";
+    if (gather_seconds > 0) s << " and gather; gather " << gather_seconds << " s";
+    s << ")";
+    return s.str();
+}
+
 /// What the written file says, so the message after a signal cannot contradict it.
 std::string file_status(const SolveResult& res) {
     return "status = " + res.status + ", converged = " + (res.converged ? "1" : "0");
@@ -97,6 +115,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     if (default_meshing(o)) roots.meshing.target_patches = 30;
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
+    const auto start = std::chrono::steady_clock::now();
     const auto visibility = make_visibility(o.visibility, mesh.patches());
     ProgressLine progress(!o.quiet);
     SolveResult res;
@@ -128,19 +147,27 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
                 << sol.leaves.size() << " elements, " << sol.links.size() << " links ("
                 << 100.0 * double(sol.links.size()) / (n * n) << "% of N^2; " << sol.cluster_links
                 << " with a cluster, " << sol.clusters << " clusters), " << h.refine_rounds << " refinement round"
-                << (h.refine_rounds == 1 ? "" : "s") << ", " << res.steps << " iterations, " << res.seconds << " s\n";
+                << (h.refine_rounds == 1 ? "" : "s") << ", " << res.steps << " iterations";
     }
+    double gather_seconds = 0.0;
     if (!o.quiet)
         for (const auto& w : elements->warnings()) std::cerr << "warning: " << w << "\n";
     if (s.gather != "none" && !g_interrupted.load()) {
         // The elements tile the patches: the patches' visibility is theirs, with fewer triangles
         // to trace against (hierarchical_point_values.h).
         const std::size_t solved = hierarchy->leaves.size();
+        const double before = res.seconds;
         gather_point_values(*hierarchy, *elements, *visibility, res, s.gather, s.display, o.quiet);
+        gather_seconds = res.seconds - before;
         settings << " display_tolerance=" << s.display.tolerance << " display_cells=" << elements->size();
+        res.seconds = seconds_since(start);
+        summary << seconds_text(res.seconds, gather_seconds, true) << "\n";
         if (elements->size() != solved)
             summary << "display refinement: " << elements->size() - solved << " more cells (the point data gathered "
                     << "at their vertices)\n";
+    } else {
+        res.seconds = seconds_since(start);
+        summary << seconds_text(res.seconds, 0.0, true) << "\n";
     }
     if (!interrupted_exit_code()) warn_about_winding(o, scene, elements->patches(), res);
     write_vtu(out, *elements, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.ascii);
@@ -208,6 +235,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     if (s.solver != "shooting")
         check_memory(o, "the form-factor matrix (" + std::to_string(P.size()) + " patches)", n * n * 4);
     if (s.solver == "direct") check_memory(o, "the direct solver (matrix and LU factors)", n * n * 12);
+    const auto start = std::chrono::steady_clock::now();
     const auto visibility = make_visibility(o.visibility, P);
     const auto ff = elements ? std::make_unique<PatchToElementFormFactor>(
                                    shooters->patches(), P, s.method == "analytic" ? nullptr : visibility.get(), s.ff)
@@ -264,7 +292,13 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     progress.finish();
     res.form_factors = s.method;
     if (matrix) res.seconds += matrix->seconds();
-    if (s.gather != "none" && !g_interrupted.load()) gather_point_values(mesh, *visibility, res, s.gather, o.quiet);
+    double gather_seconds = 0.0;
+    if (s.gather != "none" && !g_interrupted.load()) {
+        const double before = res.seconds;
+        gather_point_values(mesh, *visibility, res, s.gather, o.quiet);
+        gather_seconds = res.seconds - before;
+    }
+    res.seconds = seconds_since(start);
 
     if (!interrupted_exit_code()) warn_about_winding(o, scene, P, res);
     // Shooting never holds whole rows; the power it shot that arrived beyond 100% is the rows'
@@ -294,7 +328,8 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         if (s.solver == "shooting")
             std::cout << ", unshot fraction " << res.unshot_fraction << ", estimated error " << res.error_estimate;
         if (res.residual >= 0) std::cout << ", residual " << res.residual;
-        std::cout << (res.converged ? "" : " (NOT converged: " + res.status + ")") << ", " << res.seconds << " s\n"
+        std::cout << (res.converged ? "" : " (NOT converged: " + res.status + ")")
+                  << seconds_text(res.seconds, gather_seconds, false) << "\n"
                   << "wrote " << out.string() << (series ? " and " + series->pvd().string() : "")
                   << (s.png.empty() ? "" : " and " + s.png)
                   << (s.paraview ? " and " + paraview_script_path(out).string() : "") << "\n";

@@ -443,6 +443,11 @@ std::shared_ptr<SolutionData> solve(
     Job job;
     job.run(
         [&] {
+            // `seconds`: the wall time of the whole solve, visibility to gather, for every solver.
+            const auto start = std::chrono::steady_clock::now();
+            const auto since_start = [&] {
+                return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            };
             const auto visibility = make_visibility(s->visibility, P);
             if (elements) {
                 // The scene's patches are the roots: load() chose their size.
@@ -475,6 +480,7 @@ std::shared_ptr<SolutionData> solve(
                 settings << " display_tolerance=" << display.tolerance << " display_cells=" << cells.size();
                 out->mesh = std::make_shared<const PatchMesh>(std::move(cells));
                 if (!out->gathered) out->averaged_points = area_weighted_vertex_values(*out->mesh, res.radiosity);
+                res.seconds = since_start();
                 out->result = std::move(res);
                 return;
             }
@@ -508,6 +514,7 @@ std::shared_ptr<SolutionData> solve(
                                                     job.report_items(stage, d, t);
                                                 }) == GatherOutcome::gathered;
             if (!out->gathered) out->averaged_points = area_weighted_vertex_values(mesh, res.radiosity);
+            res.seconds = since_start();
             out->result = std::move(res);
         },
         progress);
@@ -870,7 +877,10 @@ PYBIND11_MODULE(_bounce, m) {
         .def_property_readonly("form_factors", [](const SolutionData& s) { return s.result.form_factors; })
         .def_property_readonly(
             "steps", [](const SolutionData& s) { return s.result.steps; }, "shots or sweeps")
-        .def_property_readonly("seconds", [](const SolutionData& s) { return s.result.seconds; })
+        .def_property_readonly(
+            "seconds", [](const SolutionData& s) { return s.result.seconds; },
+            "wall time of the whole solve, for every solver: visibility, form factors, refinement, solve and the "
+            "point gather")
         .def_property_readonly("converged", [](const SolutionData& s) { return s.result.converged; })
         .def_property_readonly("status", [](const SolutionData& s) { return s.result.status; })
         .def_property_readonly("residual", [](const SolutionData& s) { return s.result.residual; })
