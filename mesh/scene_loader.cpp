@@ -10,10 +10,15 @@
 #include "mesh/input_error.h"
 #include "mesh/json_scene.h"
 #include "mesh/obj_reader.h"
+#include "mesh/orientation_check.h"
 
 namespace bounce {
 
-Scene load_scene(const std::string& spec) {
+namespace {
+
+// Reads, validates and checks the geometry; the covered regions and the orientation wait for
+// the flip.
+Scene read_scene(const std::string& spec) {
     Scene scene;
     if (spec == "cornell") {
         scene = make_cornell_box();
@@ -33,16 +38,19 @@ Scene load_scene(const std::string& spec) {
     }
     scene.validate();
     check_geometry(scene, spec);
-    scene.covered = find_covered_regions(scene);
     return scene;
 }
 
+}  // namespace
+
+Scene load_scene(const std::string& spec) { return load_scene(spec, LoadOptions{}); }
+
 Scene load_scene(const std::string& spec, const LoadOptions& options) {
-    Scene scene = load_scene(spec);
-    if (options.flip) {
+    Scene scene = read_scene(spec);
+    if (options.flip)
         for (auto& surface : scene.surfaces) std::reverse(surface.vertices.begin(), surface.vertices.end());
-        scene.covered = find_covered_regions(scene);
-    }
+    scene.covered = find_covered_regions(scene);
+    for (const auto& r : find_reversed_surfaces(scene)) scene.warnings.push_back(reversed_surface_warning(scene, r));
     if (options.strict && !scene.warnings.empty()) throw InputError(scene.warnings.front() + " (--strict)");
     return scene;
 }

@@ -8,7 +8,9 @@
 namespace bounce {
 
 /// Loads a scene by name: "cornell" (the built-in box), a .obj or a .json file. Validates
-/// materials and coordinates and checks the geometry (see check_geometry). Throws InputError.
+/// materials and coordinates, checks the geometry (see check_geometry), finds the covered
+/// regions and warns of surfaces that face away from the scene (find_reversed_surfaces).
+/// Throws InputError.
 Scene load_scene(const std::string& spec);
 
 /// What every caller may ask of a load beyond the file itself.
@@ -17,8 +19,8 @@ struct LoadOptions {
     bool strict = false;  // a warning about the input is an error
 };
 
-/// load_scene, then the options: with flip the covered regions are found again (what no light
-/// reaches depends on which way the faces look); with strict the first warning is thrown as
+/// load_scene with the options: with flip every face is turned before the covered regions and
+/// the orientation are looked at (both depend on which way the faces look); with strict the first warning is thrown as
 /// InputError, marked "(--strict)".
 Scene load_scene(const std::string& spec, const LoadOptions& options);
 

@@ -91,3 +91,21 @@ def test_a_json_mesh_objects_material_is_not_reported_missing(tmp_path):
                      '"objects": [{"type": "mesh", "file": "open.obj", "material": "w"}]}')
     s = bounce.load(str(scene), patches=50, strict=True, quiet=True)
     assert list(s.warnings) == []
+
+
+def test_one_wall_wound_the_wrong_way_is_a_warning_naming_it(tmp_path):
+    # Issue 34: a closed room lit by a lamp, its red wall (line 21) alone wound clockwise.
+    (tmp_path / "room.mtl").write_text(
+        "newmtl white\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.6 0.1 0.1\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n")
+    room = tmp_path / "room.obj"
+    room.write_text(
+        "mtllib room.mtl\nv 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nv 0 3 0\nv 4 3 0\nv 4 3 4\nv 0 3 4\n"
+        "v 1.5 2.9 1.5\nv 2.5 2.9 1.5\nv 2.5 2.9 2.5\nv 1.5 2.9 2.5\nusemtl white\nf 1 4 3 2\nf 5 6 7 8\n"
+        "f 1 2 6 5\nf 4 8 7 3\nf 2 3 7 6\nusemtl red\nf 4 8 5 1\nusemtl lamp\nf 9 10 11 12\n")
+    with pytest.warns(UserWarning, match=r"orientation: .*room\.obj:21 \(default\) faces away") as caught:
+        s = bounce.load(str(room), patches=100)
+    assert len([w for w in caught if "orientation" in str(w.message)]) == 1
+    assert len([w for w in s.warnings if "orientation" in w]) == 1
+    with pytest.raises(ValueError, match=r"room\.obj:21 .*\(--strict\)"):
+        bounce.load(str(room), patches=100, strict=True)
+    assert list(bounce.load("cornell", patches=100, quiet=True).warnings) == []
