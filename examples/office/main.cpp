@@ -596,7 +596,8 @@ Office build(int pairs, long books, const Detail& d, std::uint64_t seed) {
     for (int k = 0; k < cabinets; ++k) {
         const Frame f{{cx0 + (k + 0.5) * 1.2, 0, p.depth - kCabinetD / 2}, kPi};
         mesh.begin("cabinet" + std::to_string(k));
-        box(mesh, f, 0.59, kCabinetD / 2, 0.0, kCabinetH, kShelf, false, true, kPZ);
+        // Open on the wall side, local -z (the frame turns it to +z); the room sees a closed front.
+        box(mesh, f, 0.59, kCabinetD / 2, 0.0, kCabinetH, kShelf, false, true, kNZ);
         Rng rng(seed, 5, std::uint64_t(k));
         if (rng.uniform(0, 1) < 0.35)
             plant(mesh, f.child({rng.uniform(-0.3, 0.3), 0, 0}), d, kCabinetH, 0.5,
