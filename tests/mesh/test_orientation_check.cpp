@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "mesh/cornell_box.h"
 #include "mesh/obj_reader.h"
@@ -48,10 +48,8 @@ Scene closed_room() {
     Scene s;
     s.materials = {{"white", Rgb::gray(0.7), Rgb()}, {"lamp", Rgb(), Rgb::gray(10)}};
     add_box(s, V(0), V(4, 3, 4), true, 0, "room");
-    s.surfaces.push_back({{V(1.5, 2.9, 1.5), V(2.5, 2.9, 1.5), V(2.5, 2.9, 2.5), V(1.5, 2.9, 2.5)},
-                          1,
-                          "lamp",
-                          {"lamp", 0}});
+    s.surfaces.push_back(
+        {{V(1.5, 2.9, 1.5), V(2.5, 2.9, 1.5), V(2.5, 2.9, 2.5), V(1.5, 2.9, 2.5)}, 1, "lamp", {"lamp", 0}});
     add_box(s, V(0.5, 0, 0.5), V(1.5, 1.2, 1.5), false, 0, "tall block");
     add_box(s, V(2.5, 0, 2.2), V(3.4, 0.6, 3.1), false, 0, "short block");
     return s;
