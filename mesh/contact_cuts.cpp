@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mesh/polygon.h"
+#include "mesh/solid_cuts.h"
 #include "mesh/surface_tree.h"
 
 namespace bounce {
@@ -321,8 +322,15 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
                 for (std::size_t k = 0; k < c.size() && covered; ++k)
                     covered = enclosed(0.5 * (centre + c[k]), S.normal);
             }
-            for (std::size_t k = 0; k < tri.size() && k < 4 && covered && !(hung[ci] > tol); ++k)
-                covered = enclosed((c[tri[k][0]] + c[tri[k][1]] + c[tri[k][2]]) / 3.0, S.normal);
+            // A loop is judged at the centre of each of its triangles (up to 16) and half-way
+            // from there to each corner: a few points can all fall inside objects that merely
+            // cross this surface, and a room's own outline would then hide the whole surface.
+            for (std::size_t k = 0; k < tri.size() && k < 16 && covered && !(hung[ci] > tol); ++k) {
+                const V centre = (c[tri[k][0]] + c[tri[k][1]] + c[tri[k][2]]) / 3.0;
+                covered = enclosed(centre, S.normal);
+                for (int corner = 0; corner < 3 && covered; ++corner)
+                    covered = enclosed(0.5 * (centre + c[tri[k][corner]]), S.normal);
+            }
             if (!covered) continue;
             // Convex loops stay whole; others go as their (convex) triangles.
             bool convex = true;
@@ -338,6 +346,7 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
     }
     });
     for (auto& f : found) out.insert(out.end(), std::make_move_iterator(f.begin()), std::make_move_iterator(f.end()));
+    for (auto& c : find_solid_cuts(scene)) out.push_back(std::move(c));
     return out;
 }
 
