@@ -14,13 +14,11 @@ namespace bounce {
 
 class Visibility;
 
-/// Visibility rays per pair when FormFactorOptions::visibility_rays is 0. Patch pairs: 2. On the
-/// default Cornell box the patch values are as close to the path-traced probes with 2 as with 4
-/// (4.46% against 4.59% RMS, the point data 1.48% against 1.47%: the mesh, not the rays, limits
-/// them), and halving the rays takes about 17% off the run's CPU. Adaptive and hierarchical
-/// refinement: 4. Their refinement reads differences between neighbouring elements, which the
-/// rays' noise inflates: with 2 the adaptive test box's error estimate stalled at 7.6% against
-/// its 5% target.
+/// Visibility rays per pair when FormFactorOptions::visibility_rays is 0. Patch pairs: 2, since
+/// on a uniform mesh the patch size rather than the rays' noise limits the error, and the rays
+/// are most of the run's time. Adaptive and hierarchical refinement: 4, since refinement reads
+/// differences between neighbouring elements, which the rays' noise inflates (with 2 it can
+/// stall above its target). The study is in docs/measurements/2026-12-03-defaults.md.
 inline constexpr int kPatchPairRays = 2;
 inline constexpr int kRefinementRays = 4;
 

@@ -103,12 +103,8 @@ GatherPlan gather_plan(const HierarchicalSolution& sol, const PatchMesh& element
 /// parent's (GatherSources::list_parent), so a point on a leaf gathers over the links of the
 /// leaf and of every ancestor without a list stored per leaf; each entry with its mark: a shaft
 /// test over the input patches (the scene's blockers) found nothing between the two ends of
-/// the link, so every point of the node sees all of the source. On the Cornell box (power
-/// epsilon 3e-6) three links in four are so marked; when the gather made the tests itself
-/// (e28e14b) it traced 4.2 million rays instead of 9.9 million and took a third less time, at
-/// the same error (five gather seeds: 0.68% RMS off the 0.1% probes either way). Since
-/// refinement makes them, a pair inheriting its ancestors' proof, 511k of the 647k links at
-/// 1e-6 are marked without a test here.
+/// the link, so every point of the node sees all of the source and its rays can be skipped.
+/// Refinement makes the marks (a pair inherits its ancestors' proof), so most are free here.
 struct LinkSources {
     std::vector<std::uint8_t> unblocked;  // per entry of NodeLinks::other
     std::vector<std::int64_t> parent;     // per node

@@ -62,14 +62,11 @@ struct DisplayRefinement {
     double tolerance = 0.0;
 };
 
-/// A tolerance that pays on the Cornell box (`bounce compare --meshes`, level 4, 0.1% probes):
-/// the point data at power epsilon 1e-6 went from 0.48% to 0.35% RMS in 1.58 s instead of
-/// 1.07 s (power epsilon 5e-7 alone: 0.44% in 1.94 s), at 3e-7 from 0.37% to 0.29%, without a
-/// power epsilon from 0.31% to 0.20%; at 1e-5 and coarser a finer power epsilon bought more
-/// for the time. Not the default: in the 10k office (power epsilon 1e-5) it split two thirds
-/// of the elements, took `bounce solve` from 21 s to 39 s and 0.3 GB to 0.6 GB, and its probes
-/// were no closer (compare: 2.22 against 2.33 RMS, errors there dominated by a few far-off
-/// probes).
+/// The display tolerance `--display-tolerance` suggests: a quarter of a percent of the leaf's
+/// value is below what a colour map shows, and finer tolerances split most leaves of a
+/// cluttered scene for no visible gain. Not the default, since splitting costs time and memory
+/// in every scene while it pays only where the power epsilon is already fine (the study is in
+/// docs/measurements/2026-12-03-defaults.md).
 inline constexpr double kSuggestedDisplayTolerance = 0.0025;
 
 /// gather_hierarchical_point_values, then, in mode "vertices" with a positive tolerance,

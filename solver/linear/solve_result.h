@@ -41,7 +41,8 @@ struct SolveResult {
     double error_estimate = -1.0;
     bool converged = false;
     double residual = -1.0;  // last relative residual, when computed
-    std::string status;      // "converged", "max iterations", "max seconds", "diverged", "stalled"
+    std::string status;      // "converged", "max iterations", "max seconds", "diverged", "stalled",
+                             // "interrupted" (Ctrl-C), "running" (a snapshot during the solve)
     Rgb emitted_power, absorbed_power, escaped_power, unshot_power;
     Rgb shot_power;  // shooting: all power shot; -escaped / shot is the mean row surplus of a closed scene
     std::vector<ConvergenceRecord> log;

@@ -20,11 +20,10 @@ struct HierarchicalOptions {
     double link_epsilon = 0.1;  // link when the error bound is below this share of what the link brings
     double link_floor = 1e-3;   // ... plus this share of the scene's mean radiosity (faint links stay coarse)
     /// Refine links with the last solution's B, then solve; this many times (multigridding,
-    /// Hanrahan et al. 1991 section 5: later rounds keep the links' form factors). One round,
-    /// refined on emission plus the ambient term, scores as well at the Cornell box's probes as
-    /// three (power epsilons 3e-5 / 3e-6 / 1e-6, point data averaged over five gather seeds:
-    /// 1.39 / 0.68 / 0.48% RMS against 1.35 / 0.70 / 0.52%) in half the solve's time: the
-    /// refinement's rays catch the shadows, and with a power bound the leaves are re-gathered.
+    /// Hanrahan et al. 1991 section 5: later rounds keep the links' form factors). One round
+    /// refines on emission plus the ambient term (Cohen et al. 1988), whose estimate of the
+    /// indirect light is close enough that further rounds rarely move a link (the study is in
+    /// docs/measurements/2026-12-03-defaults.md).
     int refine_rounds = 1;
     double min_area = 0.0;           // never split an element smaller than this (0: from level_base)
     double level_base = 1.0 / 2000;  // min_area 0: max(patch area, this share of the scene's) / 4^max_level
