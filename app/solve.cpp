@@ -112,7 +112,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
             throw std::invalid_argument(name + " applies to the patch solvers, not to --adaptive or hierarchical");
     CommonOptions roots = o;
     // Start coarse: the elements refine where the light needs it.
-    if (default_meshing(o)) roots.meshing.target_patches = 30;
+    if (default_meshing(o)) roots.meshing.target_patches = kCoarseTargetPatches;
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
     const auto start = std::chrono::steady_clock::now();

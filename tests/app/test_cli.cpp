@@ -594,10 +594,14 @@ TEST(Cli, CompareMeshesWritesRowsForEveryMethodAgainstOneReference) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string csv = slurp(dir / "meshes.csv");
     EXPECT_EQ(csv.rfind("method,setting,elements,links,seconds,rms_error,probe_rms_patch,", 0), 0u);
-    for (const char* method :
-         {"\nreference,", "\nuniform,", "\npatches,", "\ndiscontinuity,", "\nadaptive,", "\nhierarchical,"})
+    for (const char* method : {"\nreference,", "\nuniform,", "\npatches,", "\ndiscontinuity,", "\nreceiver,",
+                               "\nadaptive,", "\nhierarchical,"})
         EXPECT_NE(csv.find(method), std::string::npos) << method;
-    EXPECT_EQ(lines(csv), 1 + 1 + 3 + 1 + 1 + 5 + 3);
+    // Header, reference, 3 uniform levels, 1 patch and 1 discontinuity mesh, 5 receiver-only
+    // targets, 3 link epsilons each for adaptive and hierarchical.
+    EXPECT_EQ(lines(csv), 1 + 1 + 3 + 1 + 1 + 5 + 3 + 3);
+    // The adaptive rows are `solve --adaptive`'s: hierarchical with its power epsilon.
+    EXPECT_NE(csv.find("\nadaptive,link epsilon 0.4 power epsilon 1e-05,"), std::string::npos) << csv;
     EXPECT_TRUE(std::filesystem::exists(dir / "meshes.png"));
     // Uniform refinement gets closer to the reference at every level.
     double last = 1e9;

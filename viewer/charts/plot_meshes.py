@@ -19,13 +19,16 @@ cmap = plt.get_cmap("viridis")
 methods = [("patches", "o", "uniform patches (every patch shoots)"),
            ("discontinuity", "v", "discontinuity meshes (every patch shoots)"),
            ("uniform", "s", "uniform elements (coarse patches shoot)"),
-           ("adaptive", "D", "adaptive elements"),
+           ("receiver", "D", "receiver-only refinement (retired --adaptive)"),
+           ("adaptive", "X", "adaptive (solve --adaptive)"),
+           ("adaptive display", "h", "adaptive, display refinement"),
            ("hierarchical", "^", "hierarchical"),
            ("hierarchical display", "P", "hierarchical, display refinement")]
 
 
 def series(row):
-    """The chart line of a row: hierarchical rows with display refinement apart from those without."""
+    """The chart line of a row: hierarchical and adaptive rows with display refinement apart from those
+    without."""
     return row["method"] + (" display" if " display " in row["setting"] else "")
 
 
