@@ -439,13 +439,14 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
         [&](std::ostream& out) {
             out << "form_factors,solver,patches,steps,form_factor_seconds,solve_seconds,total_seconds,residual,"
                    "rms_error_vs_direct,"
-                << kProbeColumns << "\n";
+                << kProbeColumns << ",error_reference\n";
             out.precision(8);
             for (std::size_t k = 0; k < runs.size(); ++k) {
                 const auto& r = runs[k];
                 out << run_methods[k] << ',' << r.solver << ',' << P.size() << ',' << r.steps << ',' << ff_seconds[k]
                     << ',' << r.seconds << ',' << r.seconds + ff_seconds[k] << ',' << r.residual << ','
-                    << std::max(0.0, r.log.back().rms_error) << ',' << probe_fields(scores[k]) << "\n";
+                    << std::max(0.0, r.log.back().rms_error) << ',' << probe_fields(scores[k]) << ',' << reference_name
+                    << "\n";
             }
         },
         "run summary");

@@ -56,6 +56,13 @@ int lines(const std::string& s) {
     return n;
 }
 
+/// How often `what` occurs in `s`.
+std::size_t count_of(const std::string& s, const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = s.find(what); at != std::string::npos; at = s.find(what, at + 1)) ++n;
+    return n;
+}
+
 }  // namespace
 
 TEST(Cli, HelpAndUsage) {
@@ -303,6 +310,11 @@ TEST(Cli, CompareWritesTheLogAndBothCharts) {
     for (const std::string ff : {"raycast", "hemicube"})
         for (const std::string solver : {"shooting", "gauss-seidel", "jacobi", "direct"})
             EXPECT_NE(csv.find("\n" + ff + "," + solver + ","), std::string::npos) << ff << " " << solver;
+    // Every run, hemicube too, is scored against the direct solution on the first method's
+    // matrix, and runs.csv (which the convergence chart's title reads) says so on every row.
+    const std::string runs = slurp(out / "runs.csv");
+    EXPECT_NE(runs.find(",error_reference\n"), std::string::npos) << runs;
+    EXPECT_EQ(count_of(runs, ",direct solution on the raycast matrix\n"), 8u) << runs;
     for (const char* png : {"convergence.png", "speed_vs_accuracy.png"}) {
         const auto p = out / png;
         const auto decoded = test::run("/usr/bin/python3 -c \"import matplotlib.image as m; a = m.imread('" +

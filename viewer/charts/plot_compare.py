@@ -1,9 +1,11 @@
 #!/usr/bin/python3
 """Charts for `bounce compare` (Debian's python3-matplotlib), from DIR/convergence.csv and DIR/runs.csv.
 
-convergence.png: solver convergence, i.e. each solver's error against the direct solution of the *same*
-  discretised matrix, by step and by seconds. It says how fast a solver reaches its matrix's answer,
-  not how close that answer is to the light of a real box.
+convergence.png: solver convergence, i.e. each solver's error against one reference, the direct solution
+  on the first --form-factors method's matrix (runs.csv's error_reference), by step and by seconds. For
+  runs on that matrix it says how fast a solver reaches its matrix's answer; runs on another matrix
+  (hemicube, by default) flatten at the difference between the two matrices' answers. Neither says how
+  close an answer is to the light of a real box.
 speed_vs_accuracy.png: total wall time (form factors + solve) against the error at the path-traced
   probes (bounce reference): the distance to the continuous radiosity equation."""
 import csv
@@ -29,8 +31,22 @@ def colours(n):
     return [cmap(0.9 * k / max(1, n - 1)) for k in range(n)]
 
 
+def error_reference(folder, rows):
+    """What the convergence errors are measured against: runs.csv's error_reference, or (files written
+    before that column) the direct solution on the first run's matrix, which is how compare picks it.
+    Returns (its description, the form-factor method of its matrix)."""
+    first = rows[0]["form_factors"] if rows else "?"
+    path = os.path.join(folder, "runs.csv")
+    if os.path.exists(path):
+        runs = list(csv.DictReader(open(path)))
+        if runs and runs[0].get("error_reference"):
+            return runs[0]["error_reference"], first
+    return f"direct solution on the {first} matrix", first
+
+
 def convergence(folder):
     rows = list(csv.DictReader(open(os.path.join(folder, "convergence.csv"))))
+    reference, reference_ff = error_reference(folder, rows)
     runs = defaultdict(list)
     for r in rows:
         runs[(r["form_factors"], r["solver"])].append(r)
@@ -44,6 +60,8 @@ def convergence(folder):
         if not pts:
             continue
         label = f"{solver} ({ff})"
+        if ff != reference_ff:
+            label += f": against the {reference_ff} answer, flattens at the matrices' difference"
         if all(p[2] == 0 for p in pts):
             # The direct solution is the reference itself: exact for its matrix. Marked on the floor of
             # the axis with its own symbol, not plotted at a fake error.
@@ -60,12 +78,14 @@ def convergence(folder):
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel(xlabel)
-        ax.set_ylabel("relative RMS error against the direct solution\n(same matrix, dimensionless)")
+        ax.set_ylabel(f"relative RMS error against the\n{reference} (dimensionless)")
         ax.grid(True, which="both", alpha=0.3)
     a.legend(fontsize=7, loc="lower left")
-    fig.suptitle("Solver convergence: how fast each solver reaches its own matrix's answer")
+    fig.suptitle(f"Solver convergence against the {reference}\n(runs on other form factors end at "
+                 "the difference between the matrices' answers)")
     fig.tight_layout()
     save(fig, os.path.join(folder, "convergence.png"))
+    return fig
 
 
 def speed_vs_accuracy(folder):
