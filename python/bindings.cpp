@@ -363,7 +363,7 @@ struct SolutionData {
     double form_factor_seconds = 0.0;  // building the matrix (gathering solvers, or residuals=True)
     std::vector<Rgb> averaged_points;  // the point data when not gathered, as the .vtu has it
 
-    ExportInfo info(bool meshio) const { return ExportInfo{scene->spec, settings, meshio}; }
+    ExportInfo info(bool meshio) const { return ExportInfo{scene->spec, settings, meshio, scene->scene.units}; }
 };
 
 std::shared_ptr<SolutionData> solve(

@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
@@ -17,6 +21,8 @@
 #include "solver/linear/shooting_solver.h"
 #include "solver/visibility/visibility.h"
 #include "test_util.h"
+#include "viewer/camera.h"
+#include "viewer/luminance_scale.h"
 #include "viewer/tone_map.h"
 #include "viewer/vtu_writer.h"
 
@@ -191,4 +197,56 @@ TEST(VtuWriter, DisplayRgbIsTheRenderToneMapAtExposureZero) {
     mean_grey /= weight;
     EXPECT_GT(mean_grey, 100);
     EXPECT_LT(mean_grey, 220);
+}
+
+// Issue 35, item 9: --luminance's colour bar spans what the camera sees, not the brightest face
+// anywhere (the tall block's top, above the eye, set it and left the walls in one colour), and
+// names the scene's unit.
+TEST(LuminanceScale, SpansWhatTheCameraSeesAndNamesTheUnit) {
+    test::TempDir dir;
+    const auto& s = cornell();
+    write_vtu(dir / "u.vtu", s.mesh, s.result, {"cornell", "test", false, "mm"});
+    const auto g = read(dir / "u.vtu");
+    EXPECT_EQ(luminance_unit(g), "W per mm^2");
+    write_vtu(dir / "n.vtu", s.mesh, s.result, {"cornell", "test"});
+    EXPECT_EQ(luminance_unit(read(dir / "n.vtu")), "W per unit area");
+
+    const CameraPose pose = choose_camera(g, "cornell", 0.0, 1.0);
+    const double top_cells = luminance_scale_top(g, pose, 1.0, false);
+    const double top_points = luminance_scale_top(g, pose, 1.0, true);
+    ASSERT_NE(g->GetPointData()->GetArray("luminance"), nullptr);
+    // The brightest face that does not emit, and the area-weighted median of the walls'.
+    auto* l = g->GetCellData()->GetArray("luminance");
+    auto* e = g->GetCellData()->GetArray("emission");
+    auto* area = g->GetCellData()->GetArray("area");
+    double brightest = 0;
+    std::vector<std::pair<double, double>> walls;
+    for (vtkIdType i = 0; i < l->GetNumberOfTuples(); ++i) {
+        if (e->GetComponent(i, 0) > 0) continue;
+        brightest = std::max(brightest, l->GetTuple1(i));
+        walls.emplace_back(l->GetTuple1(i), area->GetTuple1(i));
+    }
+    std::sort(walls.begin(), walls.end());
+    double total = 0, run = 0, median = 0;
+    for (const auto& w : walls) total += w.second;
+    for (const auto& w : walls)
+        if ((run += w.second) >= 0.5 * total) {
+            median = w.first;
+            break;
+        }
+    for (const double top : {top_cells, top_points}) {
+        EXPECT_LT(top, 0.6 * brightest);
+        // Half the surface area in the upper three quarters of the scale (it was the bottom
+        // quarter), and the scale still above the median.
+        EXPECT_GT(median / top, 0.25) << median << " " << top;
+        EXPECT_LT(median / top, 1.0);
+    }
+    // Looking away from everything lit (at the floor from just above it, face-on), the scale
+    // follows the view.
+    CameraPose down = pose;
+    down.position = {278, 10, 279};
+    down.focal_point = {278, 0, 279};
+    down.view_up = {0, 0, 1};
+    down.view_angle = 20;
+    EXPECT_NE(luminance_scale_top(g, down, 1.0, false), top_cells);
 }
