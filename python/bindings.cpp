@@ -566,6 +566,9 @@ void render_file(const SolutionData& s, const std::filesystem::path& path, const
     r.smooth = smooth;
     r.luminance = luminance;
     r.edges = edges;
+    r.camera_name = "camera";  // the keywords, not the command line's options
+    r.fov_name = "fov";
+    r.size_name = "size";
     py::gil_scoped_release release;
     render_solution(*s.mesh, s.result, s.info(false), path, r);
 }

@@ -185,9 +185,10 @@ CameraPose auto_camera(vtkUnstructuredGrid* g, double fov, double aspect) {
 
 }  // namespace
 
-CameraPose choose_camera(vtkUnstructuredGrid* g, const std::string& spec, double fov, double aspect) {
+CameraPose choose_camera(vtkUnstructuredGrid* g, const std::string& spec, double fov, double aspect,
+                         const std::string& camera_name, const std::string& fov_name) {
     if (!(fov == 0 || (fov >= 1 && fov <= 170)))
-        throw InputError("--fov: field of view, got " + std::to_string(fov) + " (expected 1 to 170 degrees)");
+        throw InputError(fov_name + ": field of view, got " + std::to_string(fov) + " (expected 1 to 170 degrees)");
     std::string s = spec;
     if (s == "default") s = field_text(g->GetFieldData(), "scene") == "cornell" ? "cornell" : "auto";
     CameraPose pose;
@@ -204,7 +205,7 @@ CameraPose choose_camera(vtkUnstructuredGrid* g, const std::string& spec, double
     std::istringstream in(s);
     if (!(in >> v[0] >> sep1 >> v[1] >> sep2 >> v[2] >> colon >> v[3] >> sep3 >> v[4] >> sep4 >> v[5]) ||
         sep1 != ',' || sep2 != ',' || colon != ':' || sep3 != ',' || sep4 != ',' || !in.eof())
-        throw InputError("--camera: camera, got '" + spec + "' (expected cornell, auto or x,y,z:tx,ty,tz)");
+        throw InputError(camera_name + ": camera, got '" + spec + "' (expected cornell, auto or x,y,z:tx,ty,tz)");
     pose.position = {v[0], v[1], v[2]};
     pose.focal_point = {v[3], v[4], v[5]};
     // The scene's up, unless the view runs along it; then the next axis.

@@ -32,7 +32,9 @@ struct CameraPose {
 /// of the picture it has in the Cornell view. A scene open on all four sides (no walls) is seen
 /// from the edge of the most open side, level, across 110 degrees. Flat scenes are looked at
 /// face-on from their front.
-/// Throws InputError for a malformed spec.
-CameraPose choose_camera(vtkUnstructuredGrid* grid, const std::string& spec, double fov, double aspect);
+/// Throws InputError for a malformed spec or fov, the message starting with `camera_name` or
+/// `fov_name` (the command line's "--camera", Python's "camera").
+CameraPose choose_camera(vtkUnstructuredGrid* grid, const std::string& spec, double fov, double aspect,
+                         const std::string& camera_name = "--camera", const std::string& fov_name = "--fov");
 
 }  // namespace bounce

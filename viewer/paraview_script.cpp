@@ -37,7 +37,8 @@ void write_paraview_script(const std::filesystem::path& script, const std::files
                            const PatchMesh& mesh, const SolveResult& result, const ExportInfo& info,
                            const RenderOptions& options) {
     const auto grid = make_solution_grid(mesh, result, info);
-    const CameraPose pose = choose_camera(grid, options.camera, options.fov, double(options.width) / options.height);
+    const CameraPose pose = choose_camera(grid, options.camera, options.fov, double(options.width) / options.height,
+                                          options.camera_name, options.fov_name);
     // Luminance: the range of render's luminance colour bar (what the camera sees, the cell
     // values ParaView's luminance array holds); radiosity: over the surfaces that do not emit.
     const double max_luminance =

@@ -100,7 +100,7 @@ struct Scene3d {
 
     Scene3d(vtkUnstructuredGrid* g, const RenderOptions& o) : smooth(o.smooth) {
         if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
-            throw InputError("--size: out of range, got " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+            throw InputError(o.size_name + ": out of range, got " + std::to_string(o.width) + "x" + std::to_string(o.height) +
                              " (expected 16x16 to 8192x8192)");
         add_display_rgb(g, o.exposure);
         mapper->SetInputData(g);
@@ -115,7 +115,8 @@ struct Scene3d {
         // Colour range from what the picture shows (luminance_scale_top): the brightest visible
         // places, the lights and faces the camera cannot see saturate instead of flattening the
         // walls into one colour. Smooth pictures colour by the point data's luminance.
-        const CameraPose pose = choose_camera(g, o.camera, o.fov, double(o.width) / o.height);
+        const CameraPose pose =
+            choose_camera(g, o.camera, o.fov, double(o.width) / o.height, o.camera_name, o.fov_name);
         point_luminance = smooth && add_point_luminance(g);
         double range[2] = {0, luminance_scale_top(g, pose, double(o.width) / o.height, point_luminance)};
         // Viridis (perceptually uniform, readable in grey and by colour-blind eyes), from five of
