@@ -57,7 +57,8 @@ bool add_point_luminance(vtkUnstructuredGrid* g) {
     l->SetName("luminance");
     l->SetNumberOfTuples(b->GetNumberOfTuples());
     for (vtkIdType i = 0; i < b->GetNumberOfTuples(); ++i)
-        l->SetValue(i, 0.2126 * b->GetComponent(i, 0) + 0.7152 * b->GetComponent(i, 1) + 0.0722 * b->GetComponent(i, 2));
+        l->SetValue(i,
+                    0.2126 * b->GetComponent(i, 0) + 0.7152 * b->GetComponent(i, 1) + 0.0722 * b->GetComponent(i, 2));
     g->GetPointData()->RemoveArray("luminance");
     g->GetPointData()->AddArray(l);
     return true;

@@ -100,8 +100,8 @@ struct Scene3d {
 
     Scene3d(vtkUnstructuredGrid* g, const RenderOptions& o) : smooth(o.smooth) {
         if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
-            throw InputError(o.size_name + ": out of range, got " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-                             " (expected 16x16 to 8192x8192)");
+            throw InputError(o.size_name + ": out of range, got " + std::to_string(o.width) + "x" +
+                             std::to_string(o.height) + " (expected 16x16 to 8192x8192)");
         add_display_rgb(g, o.exposure);
         mapper->SetInputData(g);
         actor->SetMapper(mapper);
