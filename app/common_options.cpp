@@ -159,7 +159,8 @@ void check_form_factor_memory(const CommonOptions& o, const std::string& method,
 }
 
 void add_meshing_options(CLI::App* cmd, CommonOptions& o) {
-    cmd->add_option("scene", o.scene, "'cornell' (built-in, default), a .obj or a .json scene");
+    cmd->add_option("scene", o.scene,
+                    "'cornell' (built-in, default), a .obj, a .json, or a .ply/.off scene (faces only, white 0.5)");
     add_meshing_options_no_scene(cmd, o);
 }
 

@@ -53,6 +53,13 @@ PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& 
 /// methods then start from coarser patches of their own.
 bool default_meshing(const CommonOptions& o);
 
+/// The patches the element methods (`solve --adaptive`, `--solver hierarchical`, `compare
+/// --meshes`) aim at when default_meshing: they start coarse and refine where the light needs it.
+inline constexpr std::size_t kCoarseTargetPatches = 30;
+/// What kCoarseTargetPatches gives on the default Cornell box (contact cuts split some faces);
+/// `compare --help` says it, and a test holds it to what the runs print.
+inline constexpr std::size_t kCoarseCornellPatches = 90;
+
 /// Refuses work whose estimate exceeds --max-memory, naming the estimate.
 void check_memory(const CommonOptions& o, const std::string& what, double bytes);
 /// The hemicube's per-thread buffers against --max-memory (other methods need none).

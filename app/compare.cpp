@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // bounce compare: every requested solver on every requested form-factor method against one
-// reference (convergence.csv and charts), or with --meshes uniform, adaptive and hierarchical
-// meshes of the scene, all scored at the same path-traced probes (meshes.csv and charts).
+// reference (convergence.csv and charts), or with --meshes uniform, receiver-only, adaptive and
+// hierarchical meshes of the scene, all scored at the same path-traced probes (meshes.csv and charts).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -49,15 +49,16 @@ struct CompareCommand {
     bool meshes = false;
     int reference_level = 5;  // --meshes: the fine uniform elements (0: none, for large scenes)
     // --meshes: which families run: uniform elements, uniform patch meshes, discontinuity
-    // meshes, adaptive elements, hierarchical radiosity.
-    std::vector<std::string> mesh_methods = {"uniform", "patches", "discontinuity", "adaptive", "hierarchical"};
-    std::vector<double> targets = {0.2, 0.1, 0.07, 0.05, 0.035};  // --meshes: adaptive target errors
-    // --meshes: hierarchical link epsilons, coarse to fine: the rows draw a curve of error
-    // against time.
+    // meshes, the receiver-only refinement (what --adaptive ran before), adaptive (what
+    // `solve --adaptive` runs: hierarchical refining on power), hierarchical radiosity.
+    std::vector<std::string> mesh_methods = {"uniform",  "patches",  "discontinuity",
+                                             "receiver", "adaptive", "hierarchical"};
+    std::vector<double> targets = {0.2, 0.1, 0.07, 0.05, 0.035};  // --meshes: receiver-only target errors
+    // --meshes: hierarchical and adaptive link epsilons, coarse to fine: the rows draw a curve of
+    // error against time.
     std::vector<double> link_epsilons = {0.8, 0.4, 0.2, 0.1, 0.05};
-    // --meshes: hierarchical quadtree depth under each coarse patch; 3 makes the Cornell box's
-    // smallest elements those of the uniform elements' level 3 (5,760 over its 90 patches).
-    int max_level = 3;
+    // --meshes: hierarchical quadtree depth under each coarse patch, as `solve` has it.
+    int max_level = HierarchicalOptions{}.max_level;
     int refine_rounds = HierarchicalOptions{}.refine_rounds;  // --meshes: hierarchical refine-and-solve rounds
     // --meshes: hierarchical power epsilons (BF refinement on power), each with every link epsilon
     std::vector<double> power_epsilons = {HierarchicalOptions{}.power_epsilon};
@@ -83,20 +84,29 @@ std::string probe_fields(const ProbeScore& s) {
     return t.str();
 }
 
+/// A number as a stream prints it (1e-05).
+std::string shortest_text(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 /// bounce compare --meshes: uniform element meshes of several sizes, uniform and discontinuity
-/// patch meshes, adaptive subdivision at several targets and hierarchical radiosity at several
-/// link epsilons, each scored at the path-traced probes (and, but for hierarchical, against
-/// fine uniform elements over the same patches); meshes.csv, meshes.png and a table.
+/// patch meshes, the receiver-only refinement at several targets, and hierarchical radiosity
+/// (without and, as `solve --adaptive`, with the power bound) at several link epsilons, each scored at the path-traced
+/// probes (and, but for hierarchical, against fine uniform elements over the same patches); meshes.csv, meshes.png and
+/// a table.
 int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     std::error_code ec;
     std::filesystem::create_directories(c.out, ec);
     if (!std::filesystem::is_directory(c.out)) throw InputError(c.out + ": cannot create the output directory");
     CommonOptions roots = o;
-    if (default_meshing(o)) roots.meshing.target_patches = 30;  // the Cornell box: 60 patches
+    // The coarse patches `solve --adaptive` and hierarchical start from (kCoarsePatchesText).
+    if (default_meshing(o)) roots.meshing.target_patches = kCoarseTargetPatches;
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
     const auto& P = mesh.patches();
@@ -142,7 +152,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     const std::size_t total_runs =
         (c.reference_level > 0 ? 1 : 0) + (wanted("uniform") ? std::size_t(c.reference_level) : 0) +
         (wanted("patches") ? c.patch_counts.size() : 0) + (wanted("discontinuity") ? c.patch_counts.size() : 0) +
-        (wanted("adaptive") ? c.targets.size() : 0) +
+        (wanted("receiver") ? c.targets.size() : 0) + (wanted("adaptive") ? c.link_epsilons.size() : 0) +
         (wanted("hierarchical") ? c.link_epsilons.size() * c.power_epsilons.size() : 0);
     ProgressLine progress(!o.quiet);
     std::size_t runs_done = 0;
@@ -198,71 +208,84 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         }
         if (g_interrupted.load()) break;
     }
+    // The receiver-only refinement `solve --adaptive` ran before it became the hierarchical solver
+    // refining on power, kept to compare.
     for (const double target : c.targets) {
-        if (!wanted("adaptive") || g_interrupted.load()) break;
+        if (!wanted("receiver") || g_interrupted.load()) break;
         std::ostringstream setting;
         setting << "target " << target;
-        starting("adaptive " + setting.str());
+        starting("receiver " + setting.str());
         AdaptiveOptions t = a;
         t.target_error = target;
         const AdaptiveSolution s = solve_adaptive(P, *visibility, t);
-        add_row("adaptive", setting.str(), 0, s.result.seconds, vs_fine(s.tree, s.leaves, s.result.radiosity),
+        add_row("receiver", setting.str(), 0, s.result.seconds, vs_fine(s.tree, s.leaves, s.result.radiosity),
                 s.tree.conforming_mesh(s.leaves), s.result.radiosity);
     }
     // Hierarchical radiosity over the same coarse patches as the elements above (clustered),
-    // each link epsilon a point of the curve; the wall time counts refinement, solution and the
-    // conforming mesh a file would show.
-    for (const double eps : c.link_epsilons)
-        for (const double power_eps : c.power_epsilons) {
-            if (!wanted("hierarchical") || g_interrupted.load()) break;
-            {
-                std::ostringstream what;
-                what << "hierarchical link epsilon " << eps;
-                if (power_eps > 0) what << " power epsilon " << power_eps;
-                starting(what.str());
-            }
-            const auto t0 = std::chrono::steady_clock::now();
-            HierarchicalOptions h;
-            h.form_factors = c.ff;
-            h.link_epsilon = eps;
-            h.power_epsilon = power_eps;
-            h.max_level = c.max_level;
-            h.refine_rounds = c.refine_rounds;
-            h.cancel = &g_interrupted;
-            const HierarchicalSolution s = solve_hierarchical(P, *visibility, h);
-            const PatchMesh elements = s.tree.conforming_mesh(s.leaves);
-            const double solve_seconds = seconds_since(t0);
-            const double fine = vs_fine(s.tree, s.leaves, s.result.radiosity);
-            // One solve, a row per display tolerance: each its solve's time plus its own gather's,
-            // through the links; the elements tile the coarse patches, whose visibility is theirs.
-            for (const double display : c.display_tolerances) {
-                if (g_interrupted.load()) break;
-                std::ostringstream setting;
-                setting << "link epsilon " << eps;
-                if (power_eps > 0) setting << " power epsilon " << power_eps;
-                if (display > 0) setting << " display " << display;
-                // (The elements column stays the solve's; display refinement adds cells.)
-                Row r{"hierarchical", setting.str(), s.leaves.size(), s.links.size(), solve_seconds, fine, {}, false};
-                SolveResult g;
-                g.radiosity = s.result.radiosity;
-                g.irradiance = s.result.irradiance;
-                if (display > 0) {  // a copy to refine, the solve kept for the next tolerance
-                    HierarchicalSolution shown = s;
-                    PatchMesh cells = elements;
-                    if (c.gather != "none")
-                        r.gathered = gather_point_values(shown, cells, *visibility, g, "vertices",
-                                                         DisplayRefinement{display}, true);
-                    r.probe = score_at_probes(cells, g.radiosity, probes, g.point_radiosity);
-                } else {
-                    if (c.gather != "none")
-                        r.gathered = gather_point_values(s, elements, *visibility, g, "vertices", true);
-                    r.probe = score_at_probes(elements, g.radiosity, probes, g.point_radiosity);
-                }
-                r.seconds += g.seconds;
-                if (!g_interrupted.load()) rows.push_back(std::move(r));
-            }
-            ++runs_done;
+    // each link epsilon a point of the curve, at every power epsilon ("hierarchical") and at
+    // the one `solve --adaptive` adds ("adaptive"); the wall time counts refinement, solution and
+    // the conforming mesh a file would show.
+    struct HierarchicalRun {
+        const char* family;
+        double link_epsilon, power_epsilon;
+    };
+    std::vector<HierarchicalRun> hierarchical_runs;
+    if (wanted("adaptive"))
+        for (const double eps : c.link_epsilons)
+            hierarchical_runs.push_back({"adaptive", eps, adaptive_power_epsilon(0.0)});
+    if (wanted("hierarchical"))
+        for (const double eps : c.link_epsilons)
+            for (const double power_eps : c.power_epsilons)
+                hierarchical_runs.push_back({"hierarchical", eps, power_eps});
+    for (const auto& [family, eps, power_eps] : hierarchical_runs) {
+        if (g_interrupted.load()) break;
+        {
+            std::ostringstream what;
+            what << family << " link epsilon " << eps;
+            if (power_eps > 0) what << " power epsilon " << power_eps;
+            starting(what.str());
         }
+        const auto t0 = std::chrono::steady_clock::now();
+        HierarchicalOptions h;
+        h.form_factors = c.ff;
+        h.link_epsilon = eps;
+        h.power_epsilon = power_eps;
+        h.max_level = c.max_level;
+        h.refine_rounds = c.refine_rounds;
+        h.cancel = &g_interrupted;
+        const HierarchicalSolution s = solve_hierarchical(P, *visibility, h);
+        const PatchMesh elements = s.tree.conforming_mesh(s.leaves);
+        const double solve_seconds = seconds_since(t0);
+        const double fine = vs_fine(s.tree, s.leaves, s.result.radiosity);
+        // One solve, a row per display tolerance: each its solve's time plus its own gather's,
+        // through the links; the elements tile the coarse patches, whose visibility is theirs.
+        for (const double display : c.display_tolerances) {
+            if (g_interrupted.load()) break;
+            std::ostringstream setting;
+            setting << "link epsilon " << eps;
+            if (power_eps > 0) setting << " power epsilon " << power_eps;
+            if (display > 0) setting << " display " << display;
+            // (The elements column stays the solve's; display refinement adds cells.)
+            Row r{family, setting.str(), s.leaves.size(), s.links.size(), solve_seconds, fine, {}, false};
+            SolveResult g;
+            g.radiosity = s.result.radiosity;
+            g.irradiance = s.result.irradiance;
+            if (display > 0) {  // a copy to refine, the solve kept for the next tolerance
+                HierarchicalSolution shown = s;
+                PatchMesh cells = elements;
+                if (c.gather != "none")
+                    r.gathered =
+                        gather_point_values(shown, cells, *visibility, g, "vertices", DisplayRefinement{display}, true);
+                r.probe = score_at_probes(cells, g.radiosity, probes, g.point_radiosity);
+            } else {
+                if (c.gather != "none") r.gathered = gather_point_values(s, elements, *visibility, g, "vertices", true);
+                r.probe = score_at_probes(elements, g.radiosity, probes, g.point_radiosity);
+            }
+            r.seconds += g.seconds;
+            if (!g_interrupted.load()) rows.push_back(std::move(r));
+        }
+        ++runs_done;
+    }
     progress.finish();
     std::ostringstream csv;
     csv << "method,setting,elements,links,seconds,rms_error," << kProbeColumns << ",point_data\n";
@@ -326,11 +349,14 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
             "--gather none)\n",
             P.size(), vs_fine_text.c_str(), rows.empty() ? std::size_t(0) : rows.front().probe.scored,
             rows.empty() ? 0.0 : 100 * rows.front().probe.reference_noise);
-        std::printf("%-13s %-18s %9s %10s %9s %9s %11s %12s %9s\n", "method", "setting", "elements", "links", "seconds",
-                    "vs fine", "probe patch", "probe smooth", "points");
+        // The setting column as wide as its longest entry ("link epsilon 0.1 power epsilon 1e-05").
+        int width = 18;
+        for (const auto& r : rows) width = std::max(width, int(r.setting.size()));
+        std::printf("%-13s %-*s %9s %10s %9s %9s %11s %12s %9s\n", "method", width, "setting", "elements", "links",
+                    "seconds", "vs fine", "probe patch", "probe smooth", "points");
         for (const auto& r : rows)
-            std::printf("%-13s %-18s %9zu %10s %9.3f %9s %10.2f%% %11.2f%% %9s\n", r.method.c_str(), r.setting.c_str(),
-                        r.elements, r.links ? std::to_string(r.links).c_str() : "-", r.seconds,
+            std::printf("%-13s %-*s %9zu %10s %9.3f %9s %10.2f%% %11.2f%% %9s\n", r.method.c_str(), width,
+                        r.setting.c_str(), r.elements, r.links ? std::to_string(r.links).c_str() : "-", r.seconds,
                         r.rms >= 0 ? std::to_string(r.rms).substr(0, 6).c_str() : "-", 100 * r.probe.rms_patch,
                         100 * r.probe.rms_smooth, r.gathered ? "gathered" : "averaged");
         std::cout << "wrote " << (dir / "meshes.csv").string() << " and meshes.png\n";
@@ -413,13 +439,14 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
         [&](std::ostream& out) {
             out << "form_factors,solver,patches,steps,form_factor_seconds,solve_seconds,total_seconds,residual,"
                    "rms_error_vs_direct,"
-                << kProbeColumns << "\n";
+                << kProbeColumns << ",error_reference\n";
             out.precision(8);
             for (std::size_t k = 0; k < runs.size(); ++k) {
                 const auto& r = runs[k];
                 out << run_methods[k] << ',' << r.solver << ',' << P.size() << ',' << r.steps << ',' << ff_seconds[k]
                     << ',' << r.seconds << ',' << r.seconds + ff_seconds[k] << ',' << r.residual << ','
-                    << std::max(0.0, r.log.back().rms_error) << ',' << probe_fields(scores[k]) << "\n";
+                    << std::max(0.0, r.log.back().rms_error) << ',' << probe_fields(scores[k]) << ',' << reference_name
+                    << "\n";
             }
         },
         "run summary");
@@ -471,8 +498,11 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
         ->check(in_range(0.0, 2.0));
     cmp_cmd->add_option("--max-matrix-mb", cmp->max_matrix_mb, "refuse a matrix larger than this (MB)");
     cmp_cmd->add_flag("--meshes", cmp->meshes,
-                      "compare uniform, adaptive and hierarchical meshes over the same patches (60 for the box) "
-                      "against one fine uniform reference, instead of solvers");
+                      "compare uniform, receiver-only, adaptive and hierarchical meshes over the same coarse "
+                      "patches as solve --adaptive (" +
+                          std::to_string(kCoarseCornellPatches) + " on the Cornell box, from --patches " +
+                          std::to_string(kCoarseTargetPatches) +
+                          " and the contact cuts; a meshing option given: that meshing), instead of solvers");
     cmp_cmd
         ->add_option("--reference-level", cmp->reference_level,
                      "--meshes: the reference cuts every patch into 4^level elements (5; 0: no fine reference, "
@@ -489,17 +519,18 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
     cmp_cmd
         ->add_option(
             "--methods", cmp->mesh_methods,
-            "--meshes: uniform (elements), patches, discontinuity, adaptive (the receiver-only refinement solve "
-            "--adaptive ran before it became the hierarchical solver refining on power, to compare), "
-            "hierarchical (default: all)")
+            "--meshes: uniform (elements), patches, discontinuity, receiver (the receiver-only refinement solve "
+            "--adaptive ran before it became the hierarchical solver refining on power, to compare), adaptive "
+            "(what solve --adaptive runs: hierarchical with power epsilon " +
+                shortest_text(adaptive_power_epsilon(0.0)) + ", at every --link-epsilons), hierarchical (default: all)")
         ->delimiter(',')
-        ->check(
-            CLI::IsMember(std::vector<std::string>{"uniform", "patches", "discontinuity", "adaptive", "hierarchical"}));
-    cmp_cmd->add_option("--targets", cmp->targets, "--meshes: adaptive target errors")
+        ->check(CLI::IsMember(
+            std::vector<std::string>{"uniform", "patches", "discontinuity", "receiver", "adaptive", "hierarchical"}));
+    cmp_cmd->add_option("--targets", cmp->targets, "--meshes: receiver-only refinement's target errors")
         ->delimiter(',')
         ->check(kPositive)
         ->capture_default_str();
-    cmp_cmd->add_option("--link-epsilons", cmp->link_epsilons, "--meshes: hierarchical link epsilons")
+    cmp_cmd->add_option("--link-epsilons", cmp->link_epsilons, "--meshes: hierarchical and adaptive link epsilons")
         ->delimiter(',')
         ->check(kPositive)
         ->capture_default_str();
@@ -521,7 +552,9 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
                      "--meshes: hierarchical refine-and-solve rounds (multigridding)")
         ->check(in_range(1, 100))
         ->capture_default_str();
-    cmp_cmd->add_option("--max-level", cmp->max_level, "--meshes: hierarchical quadtree depth under each coarse patch")
+    cmp_cmd
+        ->add_option("--max-level", cmp->max_level,
+                     "--meshes: hierarchical and adaptive quadtree depth under each coarse patch, as solve's")
         ->check(in_range(0, 12))
         ->capture_default_str();
     cmp_cmd

@@ -2,8 +2,12 @@
 // bounce info: the scene's surfaces, patches, area and emitted power; with --row-sums, how far
 // the form-factor rows of a closed scene are from 1, and how much of that partial visibility
 // explains.
+#include <algorithm>
+#include <array>
+#include <iomanip>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -59,13 +63,32 @@ int run_info(const CommonOptions& o, const InfoCommand& c) {
     std::vector<double> removed(scene.surfaces.size(), 0.0);
     if (o.meshing.cut_contacts)
         for (const auto& c : scene.covered) removed[std::size_t(c.surface)] += polygon_area(c.polygon);
-    std::cout << "surface  patches  area  removed  material  where\n";
+    // A table: every column as wide as its widest entry, numbers right-aligned, text left.
+    std::vector<std::array<std::string, 6>> table = {{"surface", "patches", "area", "removed", "material", "where"}};
     for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
         const Surface& f = scene.surfaces[s];
         const Material& m = scene.materials[std::size_t(f.material)];
-        std::cout << s << "  " << patches[s] << "  " << polygon_area(f.vertices) << "  " << removed[s] << "  " << m.name
-                  << (m.emission.max() > 0 ? " (emits " + m.emission.to_string() + ")" : "") << "  "
-                  << describe(f.where, f.object) << "\n";
+        std::ostringstream area, cut;
+        area << polygon_area(f.vertices);
+        cut << removed[s];
+        table.push_back({std::to_string(s), std::to_string(patches[s]), area.str(), cut.str(),
+                         m.name + (m.emission.max() > 0 ? " (emits " + m.emission.to_string() + ")" : ""),
+                         describe(f.where, f.object)});
+    }
+    std::array<std::size_t, 6> width{};
+    for (const auto& row : table)
+        for (std::size_t c = 0; c < row.size(); ++c) width[c] = std::max(width[c], row[c].size());
+    for (const auto& row : table) {
+        std::ostringstream line;
+        for (std::size_t c = 0; c < row.size(); ++c) {
+            if (c > 0) line << "  ";
+            const bool number = c < 4;
+            if (c + 1 == row.size())
+                line << row[c];  // the last column unpadded: no trailing spaces
+            else
+                line << (number ? std::right : std::left) << std::setw(int(width[c])) << row[c];
+        }
+        std::cout << line.str() << "\n";
     }
     if (c.row_sums) print_row_sums(o, c, mesh.patches());
     return interrupted_exit_code();

@@ -49,8 +49,8 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
     const auto visibility = make_visibility(o.visibility, mesh.patches());
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
     const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
-    interactive ? view_solution(mesh, res, {r.input, ""}, r.render, r.exit_after)
-                : render_solution(mesh, res, {r.input, ""}, r.output, r.render);
+    interactive ? view_solution(mesh, res, {r.input, "", false, scene.units}, r.render, r.exit_after)
+                : render_solution(mesh, res, {r.input, "", false, scene.units}, r.output, r.render);
     if (!interactive && !o.quiet) std::cout << "wrote " << r.output << "\n";
     return 0;
 }

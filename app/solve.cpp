@@ -112,7 +112,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
             throw std::invalid_argument(name + " applies to the patch solvers, not to --adaptive or hierarchical");
     CommonOptions roots = o;
     // Start coarse: the elements refine where the light needs it.
-    if (default_meshing(o)) roots.meshing.target_patches = 30;
+    if (default_meshing(o)) roots.meshing.target_patches = kCoarseTargetPatches;
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
     const auto start = std::chrono::steady_clock::now();
@@ -170,16 +170,17 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         summary << seconds_text(res.seconds, 0.0, true) << "\n";
     }
     if (!interrupted_exit_code()) warn_about_winding(o, scene, elements->patches(), res);
-    write_vtu(out, *elements, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.ascii);
+    write_vtu(out, *elements, res, ExportInfo{o.scene, settings.str(), s.meshio, scene.units}, s.ascii);
     if (interrupted_exit_code()) {
         std::cerr << "bounce: interrupted; wrote the solution so far to " << out.string() << " (" << file_status(res)
                   << ")\n";
         return interrupted_exit_code();
     }
-    if (!s.png.empty()) render_solution(*elements, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.png, s.render);
+    if (!s.png.empty())
+        render_solution(*elements, res, ExportInfo{o.scene, settings.str(), s.meshio, scene.units}, s.png, s.render);
     if (s.paraview)
         write_paraview_script(paraview_script_path(out), out, *elements, res,
-                              ExportInfo{o.scene, settings.str(), s.meshio}, s.render);
+                              ExportInfo{o.scene, settings.str(), s.meshio, scene.units}, s.render);
     if (!o.quiet)
         std::cout << summary.str() << "wrote " << out.string() << (s.png.empty() ? "" : " and " + s.png)
                   << (s.paraview ? " and " + paraview_script_path(out).string() : "") << "\n";
@@ -276,7 +277,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     std::optional<SeriesWriter> series;
     if (s.series > 0) {
         series.emplace(std::filesystem::path(out).replace_extension(".pvd"), mesh,
-                       ExportInfo{o.scene, settings.str(), s.meshio});
+                       ExportInfo{o.scene, settings.str(), s.meshio, scene.units});
         so.snapshot_every = s.series;
         so.snapshot = [&](const SolveResult& so_far) {
             SolveResult snap = so_far;
@@ -310,17 +311,18 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
                       << " on average (> 1 + 1e-3): the solution gains energy; --form-factors exact keeps rows "
                          "within 1e-6 of the truth\n";
     }
-    write_vtu(out, mesh, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.ascii);
+    write_vtu(out, mesh, res, ExportInfo{o.scene, settings.str(), s.meshio, scene.units}, s.ascii);
     if (interrupted_exit_code()) {
         std::cerr << "bounce: interrupted after " << res.steps << " steps; wrote the solution so far to "
                   << out.string() << " (" << file_status(res) << ")\n";
         return interrupted_exit_code();
     }
     if (series) series->finish(res);
-    if (!s.png.empty()) render_solution(mesh, res, ExportInfo{o.scene, settings.str(), s.meshio}, s.png, s.render);
+    if (!s.png.empty())
+        render_solution(mesh, res, ExportInfo{o.scene, settings.str(), s.meshio, scene.units}, s.png, s.render);
     if (s.paraview)
-        write_paraview_script(paraview_script_path(out), out, mesh, res, ExportInfo{o.scene, settings.str(), s.meshio},
-                              s.render);
+        write_paraview_script(paraview_script_path(out), out, mesh, res,
+                              ExportInfo{o.scene, settings.str(), s.meshio, scene.units}, s.render);
     if (!s.log_csv.empty()) write_log_csv(s.log_csv, {res}, {s.method}, {matrix ? matrix->seconds() : 0.0});
     if (!o.quiet) {
         std::cout << "patches " << (elements ? std::to_string(shooters->size()) + ", elements " : "") << mesh.size()

@@ -197,12 +197,19 @@ Scene read_json_scene(const std::filesystem::path& path) {
         std::vector<Surface> surfaces;
         if (type == "quad" || type == "box") {
             if (o.contains("file")) cx.fail("'file' belongs to type mesh");
+            // "objects[2] (box 2)" unnamed, "objects[3] (quad) (east wall)" named: the type once.
+            const std::string where = o.contains("name") ? cx.where + " (" + type + ")" : cx.where;
             for (auto& poly : (type == "quad" ? unit_quad() : unit_box()))
-                surfaces.push_back({poly, material, name, {cx.where + " (" + type + ")", 0}});
+                surfaces.push_back({poly, material, name, {where, 0}});
         } else if (type == "mesh") {
             if (!o.contains("file") || !o["file"].is_string()) cx.fail("type mesh needs a 'file'");
             const std::filesystem::path file = path.parent_path() / o["file"].get<std::string>();
             const std::string ext = file.extension().string();
+            // Tied to its object here: the readers' own "cannot open" names only the file.
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(file, ec))
+                cx.fail("mesh file " + file.string() +
+                        (std::filesystem::exists(file, ec) ? " is not a regular file" : " not found"));
             if (ext == ".obj" || ext == ".OBJ") {
                 // The object's material replaces the file's: its faces do not lack one.
                 Scene sub = read_obj(file, material < 0);
@@ -211,6 +218,9 @@ Scene read_json_scene(const std::filesystem::path& path) {
                 for (auto& w : sub.warnings) scene.warnings.push_back(w);
                 for (auto& s : sub.surfaces) {
                     s.material = material >= 0 ? material : base + s.material;
+                    // Named by the JSON object (and the OBJ's own object, when it names one)
+                    // rather than the OBJ reader's "default".
+                    s.object = s.object == "default" ? name : name + "/" + s.object;
                     surfaces.push_back(std::move(s));
                 }
             } else if (ext == ".ply" || ext == ".off" || ext == ".PLY" || ext == ".OFF") {

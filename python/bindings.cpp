@@ -363,7 +363,7 @@ struct SolutionData {
     double form_factor_seconds = 0.0;  // building the matrix (gathering solvers, or residuals=True)
     std::vector<Rgb> averaged_points;  // the point data when not gathered, as the .vtu has it
 
-    ExportInfo info(bool meshio) const { return ExportInfo{scene->spec, settings, meshio}; }
+    ExportInfo info(bool meshio) const { return ExportInfo{scene->spec, settings, meshio, scene->scene.units}; }
 };
 
 std::shared_ptr<SolutionData> solve(
@@ -566,6 +566,9 @@ void render_file(const SolutionData& s, const std::filesystem::path& path, const
     r.smooth = smooth;
     r.luminance = luminance;
     r.edges = edges;
+    r.camera_name = "camera";  // the keywords, not the command line's options
+    r.fov_name = "fov";
+    r.size_name = "size";
     py::gil_scoped_release release;
     render_solution(*s.mesh, s.result, s.info(false), path, r);
 }

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <vtkCellData.h>
 #include <vtkCellLocator.h>
@@ -92,6 +94,57 @@ double diagonal_of(vtkUnstructuredGrid* g) {
     return std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
 }
 
+double dot(V3 a, V3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double length(V3 a) { return std::sqrt(dot(a, a)); }
+V3 cross(V3 a, V3 b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+
+/// How open the picture from `eye` towards `target` is: over an 8 x 8 grid of rays across the
+/// frame, the mean distance to the first face the camera sees (its front towards the camera;
+/// back faces are culled in the picture, so rays pass through them), relative to half of
+/// `depth` and capped at 1 (what stands beyond the room's middle does not block the view). A camera inside an object (most rays meet a back face first) scores 0: the
+/// picture would show the room through the object's inside.
+double view_openness(vtkUnstructuredGrid* g, vtkCellLocator* locator, V3 eye, V3 target, V3 up, double view_angle,
+                     double aspect, double depth) {
+    const V3 forward = (target - eye) * (1.0 / std::max(length(target - eye), 1e-300));
+    V3 right = cross(forward, up);
+    right = right * (1.0 / std::max(length(right), 1e-300));
+    const V3 true_up = cross(right, forward);
+    const double tv = std::tan(view_angle * M_PI / 360.0), th = tv * aspect;
+    vtkNew<vtkIdList> ids;
+    constexpr int kRays = 8;
+    double sum = 0;
+    int inside = 0;
+    for (int i = 0; i < kRays; ++i)
+        for (int j = 0; j < kRays; ++j) {
+            const double x = th * (-1 + 2 * (i + 0.5) / kRays), y = tv * (-1 + 2 * (j + 0.5) / kRays);
+            V3 dir = forward + right * x + true_up * y;
+            dir = dir * (1.0 / length(dir));
+            V3 from = eye;
+            double travelled = 0, seen = 2 * depth;
+            bool first = true;
+            for (int hop = 0; hop < 16; ++hop) {  // past the back faces to the first front one
+                const V3 to = from + dir * (2.0 * depth);
+                double tt, xx[3], pc[3];
+                int sub;
+                vtkIdType cell = -1;
+                if (!locator->IntersectWithLine(from.data(), to.data(), 1e-9, tt, xx, pc, sub, cell)) break;
+                const double d = tt * 2.0 * depth;
+                const bool front = dot(area_vector(g, cell, ids), dir) < 0;
+                if (front) {
+                    seen = travelled + d;
+                    break;
+                }
+                if (first) ++inside;
+                first = false;
+                travelled += d + 1e-6 * depth;
+                from = from + dir * (d + 1e-6 * depth);
+            }
+            sum += std::min(1.0, seen / (0.5 * depth));
+        }
+    if (inside > kRays * kRays / 4) return 0.0;
+    return sum / (kRays * kRays);
+}
+
 CameraPose auto_camera(vtkUnstructuredGrid* g, double fov, double aspect) {
     double b[6];
     g->GetBounds(b);
@@ -171,23 +224,58 @@ CameraPose auto_camera(vtkUnstructuredGrid* g, double fov, double aspect) {
         pose.focal_point = side_centre;
         pose.position = side_centre + out * (half / t);
     } else {
-        // Inside, 2% of the depth in front of the wall, looking at the far wall.
-        const double depth = size[k];
-        pose.position = side_centre - out * (0.02 * depth);
-        pose.focal_point = side_centre - out * depth;
-        if (fov <= 0) {
-            const double tan_half = std::min(half / (0.98 * depth) / kFarWallShare, std::tan(50.0 * M_PI / 180));
-            pose.view_angle = 2.0 * std::atan(tan_half) * 180.0 / M_PI;
+        // Inside, 2% of the depth in front of a wall, looking at the far wall. The most open
+        // wall's centre first; but an object standing before it (a cube filling the frame) or
+        // around it (the camera inside it) blocks that view, so the centres and off-centre
+        // places of all four walls are tried with rays: the most open wall's centre stays
+        // unless another place is more than 10% more open, then the most open place wins.
+        struct Candidate {
+            CameraPose pose;
+            double openness = 0;
+        };
+        std::vector<Candidate> candidates;
+        std::vector<std::pair<int, double>> walls = {{k, best.sign}};
+        for (double sign : {-1.0, 1.0})
+            for (int a : order)
+                if (a != up && !(a == k && sign == best.sign)) walls.emplace_back(a, sign);
+        for (const auto& [wk, wsign] : walls) {
+            const int ww = 3 - wk - up;
+            const V3 wout = axis(wk, wsign);
+            V3 wall_centre = centre;
+            wall_centre[wk] = wsign > 0 ? hi[wk] : lo[wk];
+            const double depth = size[wk];
+            const double wall_half = std::max(0.5 * size[up], 0.5 * size[ww] / std::max(aspect, 1e-3));
+            CameraPose p = pose;
+            if (fov <= 0) {
+                const double tan_half =
+                    std::min(wall_half / (0.98 * depth) / kFarWallShare, std::tan(50.0 * M_PI / 180));
+                p.view_angle = 2.0 * std::atan(tan_half) * 180.0 / M_PI;
+            }
+            const V3 far = wall_centre - wout * depth;
+            for (const double across : {0.0, -0.3, 0.3})
+                for (const double height : {0.0, 0.25}) {
+                    const V3 eye = wall_centre - wout * (0.02 * depth) + axis(ww, across * size[ww]) +
+                                   axis(up, up_sign * height * size[up]);
+                    p.position = eye;
+                    p.focal_point = far;
+                    candidates.push_back(
+                        {p, view_openness(g, locator, eye, far, pose.view_up, p.view_angle, aspect, depth)});
+                }
         }
+        const Candidate* chosen = &candidates.front();
+        for (const auto& c : candidates)
+            if (c.openness > chosen->openness) chosen = &c;
+        pose = candidates.front().openness >= 0.9 * chosen->openness ? candidates.front().pose : chosen->pose;
     }
     return pose;
 }
 
 }  // namespace
 
-CameraPose choose_camera(vtkUnstructuredGrid* g, const std::string& spec, double fov, double aspect) {
+CameraPose choose_camera(vtkUnstructuredGrid* g, const std::string& spec, double fov, double aspect,
+                         const std::string& camera_name, const std::string& fov_name) {
     if (!(fov == 0 || (fov >= 1 && fov <= 170)))
-        throw InputError("--fov: field of view, got " + std::to_string(fov) + " (expected 1 to 170 degrees)");
+        throw InputError(fov_name + ": field of view, got " + std::to_string(fov) + " (expected 1 to 170 degrees)");
     std::string s = spec;
     if (s == "default") s = field_text(g->GetFieldData(), "scene") == "cornell" ? "cornell" : "auto";
     CameraPose pose;
@@ -204,7 +292,7 @@ CameraPose choose_camera(vtkUnstructuredGrid* g, const std::string& spec, double
     std::istringstream in(s);
     if (!(in >> v[0] >> sep1 >> v[1] >> sep2 >> v[2] >> colon >> v[3] >> sep3 >> v[4] >> sep4 >> v[5]) ||
         sep1 != ',' || sep2 != ',' || colon != ':' || sep3 != ',' || sep4 != ',' || !in.eof())
-        throw InputError("--camera: camera, got '" + spec + "' (expected cornell, auto or x,y,z:tx,ty,tz)");
+        throw InputError(camera_name + ": camera, got '" + spec + "' (expected cornell, auto or x,y,z:tx,ty,tz)");
     pose.position = {v[0], v[1], v[2]};
     pose.focal_point = {v[3], v[4], v[5]};
     // The scene's up, unless the view runs along it; then the next axis.

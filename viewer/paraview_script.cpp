@@ -8,6 +8,7 @@
 #include <vtkDataArray.h>
 
 #include "viewer/camera.h"
+#include "viewer/luminance_scale.h"
 #include "viewer/pending_output.h"
 #include "viewer/solution_grid.h"
 
@@ -36,18 +37,20 @@ void write_paraview_script(const std::filesystem::path& script, const std::files
                            const PatchMesh& mesh, const SolveResult& result, const ExportInfo& info,
                            const RenderOptions& options) {
     const auto grid = make_solution_grid(mesh, result, info);
-    const CameraPose pose = choose_camera(grid, options.camera, options.fov, double(options.width) / options.height);
-    // Colour ranges over the surfaces that do not emit, as render's luminance colour bar.
-    double max_luminance = 0, max_radiosity = 0;
+    const CameraPose pose = choose_camera(grid, options.camera, options.fov, double(options.width) / options.height,
+                                          options.camera_name, options.fov_name);
+    // Luminance: the range of render's luminance colour bar (what the camera sees, the cell
+    // values ParaView's luminance array holds); radiosity: over the surfaces that do not emit.
+    const double max_luminance =
+        luminance_scale_top(grid, pose, double(options.width) / options.height, /*points=*/false);
+    double max_radiosity = 0;
     auto* e = grid->GetCellData()->GetArray("emission");
     for (std::size_t i = 0; i < mesh.size(); ++i) {
         if (e->GetComponent(vtkIdType(i), 0) > 0 || e->GetComponent(vtkIdType(i), 1) > 0 ||
             e->GetComponent(vtkIdType(i), 2) > 0)
             continue;
-        max_luminance = std::max(max_luminance, result.radiosity[i].luminance());
         max_radiosity = std::max(max_radiosity, result.radiosity[i].max());
     }
-    if (!(max_luminance > 0)) max_luminance = 1;
     if (!(max_radiosity > 0)) max_radiosity = 1;
     const std::string name = vtu.filename().string();
     const std::string absolute = std::filesystem::absolute(vtu).string();
@@ -71,8 +74,9 @@ void write_paraview_script(const std::filesystem::path& script, const std::files
             << "display.Ambient = 1.0\ndisplay.Diffuse = 0.0\n"
             << "display.BackfaceRepresentation = \"Cull Backface\"\n"
             << "HideScalarBarIfNotNeeded(GetColorTransferFunction(\"display_rgb\"), view)\n"
-            << "# Switching to luminance or radiosity (the Coloring menu): ranges over the surfaces that\n"
-            << "# do not emit; the light saturates.\n"
+            << "# Switching to luminance (the Coloring menu): ranged as render --luminance, to the brightest\n"
+            << "# of what this camera sees (" << luminance_unit(grid) << "); radiosity: over the surfaces that do\n"
+            << "# not emit. Brighter places and the light saturate.\n"
             << "for array, top in ((\"luminance\", " << max_luminance << "), (\"radiosity\", " << max_radiosity
             << ")):\n"
             << "    lut = GetColorTransferFunction(array)\n"

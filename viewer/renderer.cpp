@@ -36,6 +36,7 @@
 #include "mesh/input_error.h"
 #include "viewer/camera.h"
 #include "viewer/display_rgb.h"
+#include "viewer/luminance_scale.h"
 #include "viewer/pending_output.h"
 #include "viewer/solution_grid.h"
 #include "viewer/tone_map.h"
@@ -50,8 +51,7 @@ std::string picture_extension(const std::filesystem::path& p) {
     return ext;
 }
 
-void set_camera(vtkRenderer* ren, vtkUnstructuredGrid* g, const RenderOptions& o) {
-    const CameraPose pose = choose_camera(g, o.camera, o.fov, double(o.width) / o.height);
+void set_camera(vtkRenderer* ren, const CameraPose& pose) {
     vtkCamera* cam = ren->GetActiveCamera();
     cam->SetPosition(pose.position.data());
     cam->SetFocalPoint(pose.focal_point.data());
@@ -95,11 +95,13 @@ struct Scene3d {
     vtkNew<vtkTextActor> caption;  // an unfinished solution says so in the corner
     bool luminance = false;
     bool smooth = true;
+    bool point_luminance = false;  // the point array `luminance` added: smooth luminance colours
+    std::string bar_title;
 
     Scene3d(vtkUnstructuredGrid* g, const RenderOptions& o) : smooth(o.smooth) {
         if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
-            throw InputError("--size: out of range, got " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-                             " (expected 16x16 to 8192x8192)");
+            throw InputError(o.size_name + ": out of range, got " + std::to_string(o.width) + "x" +
+                             std::to_string(o.height) + " (expected 16x16 to 8192x8192)");
         add_display_rgb(g, o.exposure);
         mapper->SetInputData(g);
         actor->SetMapper(mapper);
@@ -110,16 +112,13 @@ struct Scene3d {
         actor->GetProperty()->BackfaceCullingOn();
         actor->GetProperty()->SetEdgeColor(0.1, 0.1, 0.1);
         actor->GetProperty()->SetEdgeVisibility(o.edges);
-        // Colour range from the surfaces that do not emit: a light is orders of magnitude
-        // brighter and would flatten everything else into one colour (it saturates instead).
-        double range[2] = {0, 0};
-        auto* l = g->GetCellData()->GetArray("luminance");
-        auto* e = g->GetCellData()->GetArray("emission");
-        for (vtkIdType i = 0; l && i < l->GetNumberOfTuples(); ++i) {
-            const bool emits = e && (e->GetComponent(i, 0) > 0 || e->GetComponent(i, 1) > 0 || e->GetComponent(i, 2) > 0);
-            if (!emits) range[1] = std::max(range[1], l->GetTuple1(i));
-        }
-        if (!(range[1] > 0)) range[1] = 1;
+        // Colour range from what the picture shows (luminance_scale_top): the brightest visible
+        // places, the lights and faces the camera cannot see saturate instead of flattening the
+        // walls into one colour. Smooth pictures colour by the point data's luminance.
+        const CameraPose pose =
+            choose_camera(g, o.camera, o.fov, double(o.width) / o.height, o.camera_name, o.fov_name);
+        point_luminance = smooth && add_point_luminance(g);
+        double range[2] = {0, luminance_scale_top(g, pose, double(o.width) / o.height, point_luminance)};
         // Viridis (perceptually uniform, readable in grey and by colour-blind eyes), from five of
         // matplotlib's control colours, linearly between them.
         static constexpr double kViridis[5][3] = {{0.267, 0.005, 0.329},
@@ -138,8 +137,12 @@ struct Scene3d {
         }
         lut->SetTableRange(range);
         bar->SetLookupTable(lut);
-        bar->SetTitle("luminance\n(W per unit\narea)");
+        const std::string unit = luminance_unit(g);
+        const auto space = unit.rfind(' ');  // "W per\nmm^2", "W per unit\narea": the strip is narrow
+        bar_title = "luminance\n(" + unit.substr(0, space) + "\n" + unit.substr(space + 1) + ")";
+        bar->SetTitle(bar_title.c_str());
         bar->SetNumberOfLabels(5);
+        bar->SetVerticalTitleSeparation(8);  // the three-line title clear of the top label
         bar->GetTitleTextProperty()->SetFontSize(14);
         // Beside the picture, not on it: the scene keeps the left 84% of the window, the bar
         // fills a strip of its own to the right.
@@ -164,12 +167,12 @@ struct Scene3d {
         window->AddRenderer(legend);
         window->SetSize(o.width, o.height);
         set_colouring(o.luminance, o.smooth);
-        set_camera(renderer, g, o);
+        set_camera(renderer, pose);
     }
     void set_colouring(bool lum, bool smooth) {
         luminance = lum;
         if (lum) {
-            mapper->SetScalarModeToUseCellFieldData();
+            point_luminance ? mapper->SetScalarModeToUsePointFieldData() : mapper->SetScalarModeToUseCellFieldData();
             mapper->SelectColorArray("luminance");
             mapper->SetColorModeToMapScalars();
             mapper->SetLookupTable(lut);

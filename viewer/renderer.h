@@ -21,6 +21,9 @@ struct RenderOptions {
     bool smooth_required = false;    // --smooth given: an input without point data is an error, not flat
     bool luminance = false;          // pseudo-colour by luminance with a colour bar
     bool edges = false;              // draw patch edges
+    // What errors call the camera, field of view and size: the command line's options, or the
+    // Python keywords ("camera", "fov", "size").
+    std::string camera_name = "--camera", fov_name = "--fov", size_name = "--size";
 };
 
 /// Throws InputError unless the picture's name ends in .png, .jpg or .jpeg (the formats

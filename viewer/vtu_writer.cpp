@@ -163,6 +163,7 @@ vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, c
     add_field(fd, "form_factors", result.form_factors, info.text_as_chars);
     add_field(fd, "settings", info.settings, info.text_as_chars);
     add_field(fd, "version", std::string(kBounceVersion), info.text_as_chars);
+    if (!info.units.empty()) add_field(fd, "units", info.units, info.text_as_chars);
     add_field(fd, "steps", double(result.steps));
     add_field(fd, "unshot_fraction", result.unshot_fraction);
     add_field(fd, "converged", result.converged ? 1.0 : 0.0);

@@ -184,6 +184,38 @@ TEST(CliReference, CompareMeshesScoresHierarchicalRowsPerLinkEpsilon) {
     EXPECT_TRUE(std::filesystem::exists(dir / "meshes.png"));
 }
 
+// Issue 35: compare --meshes' "adaptive" rows are what `solve --adaptive` runs (the same coarse
+// patches, max level, power epsilon: the same elements and links), and `compare --help` states
+// the coarse patch count both start from.
+TEST(CliReference, CompareMeshesAdaptiveRowIsSolveAdaptive) {
+    test::TempDir dir;
+    const auto help = bounce_run("compare --help");
+    ASSERT_EQ(help.exit_code, 0) << help.err;
+    const auto at = help.out.find(" on the Cornell box");
+    ASSERT_NE(at, std::string::npos) << help.out;
+    const std::size_t start = help.out.find_last_not_of("0123456789", at - 1) + 1;
+    const std::string coarse = help.out.substr(start, at - start);
+    ASSERT_FALSE(coarse.empty()) << help.out;
+    const auto probes = std::filesystem::path(BOUNCE_SOURCE_DIR) / "examples" / "reference" / "cornell_probes_128.csv";
+    const auto c =
+        bounce_run("compare --meshes --reference-level 0 --methods adaptive --link-epsilons 0.8 --reference " +
+                   probes.string() + " --out " + dir.path().string());
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    const auto shoot = c.out.find(coarse + " patches shoot");
+    ASSERT_NE(shoot, std::string::npos) << coarse << "\n" << c.out;
+    EXPECT_TRUE(shoot == 0 || c.out[shoot - 1] == '\n') << c.out;  // the whole number
+    const auto s = bounce_run("solve --adaptive --link-epsilon 0.8 --gather none -o " + (dir / "a.vtu").string());
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    EXPECT_NE(s.out.find("patches " + coarse + ", hierarchical (--adaptive"), std::string::npos) << s.out;
+    const CsvTable t = read_csv(dir / "meshes.csv");
+    const auto elements = column_where(t, "elements", "method", "adaptive");
+    const auto links = column_where(t, "links", "method", "adaptive");
+    ASSERT_EQ(elements.size(), 1u);
+    const std::string printed =
+        std::to_string(std::size_t(elements[0])) + " elements, " + std::to_string(std::size_t(links[0])) + " links";
+    EXPECT_NE(s.out.find(printed), std::string::npos) << printed << "\n" << s.out;
+}
+
 TEST(CliReference, CompareCachesItsOwnProbesAndScoresEveryRun) {
     test::TempDir dir;
     const auto r = bounce_run("compare --max-area 20000 --form-factors raycast --solvers shooting,direct --out " +

@@ -140,6 +140,30 @@ TEST(JsonScene, BadInputIsNamed) {
     expect_input_error([&] { read_json_scene(sing); }, {"z.json", "singular"});
     const auto mesh = dir.write("m.json", R"({"objects": [{"type": "mesh", "file": "nope.ply"}]})");
     expect_input_error([&] { read_json_scene(mesh); }, {"nope.ply", "not found"});
+    // Issue 35: a missing mesh file is tied to its object, .obj as .ply (the OBJ reader's own
+    // message named only the file).
+    const auto obj = dir.write(
+        "o.json", R"({"objects": [{"type": "quad"}, {"type": "mesh", "file": "gone.obj", "name": "chair"}]})");
+    expect_input_error([&] { read_json_scene(obj); }, {"o.json: objects[1]", "gone.obj", "not found"});
+    expect_input_error([&] { read_json_scene(mesh); }, {"m.json: objects[0]"});
+}
+
+TEST(JsonScene, ObjSurfacesAreNamedByTheirJsonObject) {
+    // Issue 35: `info` listed an OBJ placed by a JSON scene as "(default)", the OBJ reader's name
+    // for faces outside any `o`/`g`; they take the JSON object's name (and the OBJ's own after it).
+    test::TempDir dir;
+    dir.write("plate.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
+    dir.write("parts.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\no leg\nf 1 2 3\n");
+    const auto f = dir.write("n.json", R"({"objects": [
+        {"type": "mesh", "file": "plate.obj", "name": "plate"}, {"type": "mesh", "file": "plate.obj"},
+        {"type": "mesh", "file": "parts.obj", "name": "chair"}, {"type": "box"}]})");
+    const Scene s = read_json_scene(f);
+    ASSERT_EQ(s.surfaces.size(), 9u);
+    EXPECT_EQ(s.surfaces[0].object, "plate");
+    EXPECT_EQ(s.surfaces[1].object, "mesh 1");
+    EXPECT_EQ(s.surfaces[2].object, "chair/leg");
+    // An unnamed primitive says its type once: "n.json: objects[3] (box 3)".
+    EXPECT_EQ(describe(s.surfaces[3].where, s.surfaces[3].object), f.string() + ": objects[3] (box 3)");
 }
 
 TEST(JsonScene, PlacesMeshFilesFromObjAndOff) {

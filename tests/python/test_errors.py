@@ -109,3 +109,14 @@ def test_one_wall_wound_the_wrong_way_is_a_warning_naming_it(tmp_path):
     with pytest.raises(ValueError, match=r"room\.obj:21 .*\(--strict\)"):
         bounce.load(str(room), patches=100, strict=True)
     assert list(bounce.load("cornell", patches=100, quiet=True).warnings) == []
+
+
+def test_render_errors_name_the_keyword_not_the_command_line_option(tmp_path):
+    # Issue 35: Python's camera error named the command line's --camera.
+    sol = bounce.solve(bounce.load("cornell", patches=20), gather="none")
+    for kwargs, word in (({"camera": "nowhere"}, "camera"), ({"fov": 200.0}, "fov"), ({"size": (8, 8)}, "size")):
+        with pytest.raises(ValueError) as e:
+            sol.render(tmp_path / "p.png", **kwargs)
+        assert str(e.value).startswith(word + ":"), str(e.value)
+        assert "--" not in str(e.value), str(e.value)
+    assert list(tmp_path.iterdir()) == []

@@ -64,6 +64,10 @@ class Files(unittest.TestCase):
         # meshio release reads them, this fails and the option can go.
         with self.assertRaisesRegex(meshio.ReadError, "String"):
             meshio.vtu.read(self.default_vtu)
+        # meshio.read turns that into sys.exit(1), which ends a Python session (as the README says).
+        with self.assertRaises(SystemExit) as stopped:
+            meshio.read(self.default_vtu)
+        self.assertEqual(stopped.exception.code, 1)
         m = meshio.read(self.vtu)
         self.assertEqual(bytes(m.field_data["scene"].astype(np.uint8)).decode(), "cornell")
         self.assertEqual(bytes(m.field_data["status"].astype(np.uint8)).decode(), "converged")

@@ -1,7 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+#include <vector>
+
 #include <vtkCellData.h>
+#include <vtkCellLocator.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkNew.h>
@@ -12,11 +19,15 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "mesh/cornell_box.h"
+#include "mesh/json_scene.h"
 #include "mesh/patch_mesh.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/visibility/visibility.h"
 #include "test_util.h"
+#include "viewer/camera.h"
+#include "viewer/luminance_scale.h"
+#include "viewer/solution_grid.h"
 #include "viewer/tone_map.h"
 #include "viewer/vtu_writer.h"
 
@@ -191,4 +202,131 @@ TEST(VtuWriter, DisplayRgbIsTheRenderToneMapAtExposureZero) {
     mean_grey /= weight;
     EXPECT_GT(mean_grey, 100);
     EXPECT_LT(mean_grey, 220);
+}
+
+// Issue 35, item 9: --luminance's colour bar spans what the camera sees, not the brightest face
+// anywhere (the tall block's top, above the eye, set it and left the walls in one colour), and
+// names the scene's unit.
+TEST(LuminanceScale, SpansWhatTheCameraSeesAndNamesTheUnit) {
+    test::TempDir dir;
+    const auto& s = cornell();
+    write_vtu(dir / "u.vtu", s.mesh, s.result, {"cornell", "test", false, "mm"});
+    const auto g = read(dir / "u.vtu");
+    EXPECT_EQ(luminance_unit(g), "W per mm^2");
+    write_vtu(dir / "n.vtu", s.mesh, s.result, {"cornell", "test"});
+    EXPECT_EQ(luminance_unit(read(dir / "n.vtu")), "W per unit area");
+
+    const CameraPose pose = choose_camera(g, "cornell", 0.0, 1.0);
+    const double top_cells = luminance_scale_top(g, pose, 1.0, false);
+    const double top_points = luminance_scale_top(g, pose, 1.0, true);
+    ASSERT_NE(g->GetPointData()->GetArray("luminance"), nullptr);
+    // The brightest face that does not emit, and the area-weighted median of the walls'.
+    auto* l = g->GetCellData()->GetArray("luminance");
+    auto* e = g->GetCellData()->GetArray("emission");
+    auto* area = g->GetCellData()->GetArray("area");
+    double brightest = 0;
+    std::vector<std::pair<double, double>> walls;
+    for (vtkIdType i = 0; i < l->GetNumberOfTuples(); ++i) {
+        if (e->GetComponent(i, 0) > 0) continue;
+        brightest = std::max(brightest, l->GetTuple1(i));
+        walls.emplace_back(l->GetTuple1(i), area->GetTuple1(i));
+    }
+    std::sort(walls.begin(), walls.end());
+    double total = 0, run = 0, median = 0;
+    for (const auto& w : walls) total += w.second;
+    for (const auto& w : walls)
+        if ((run += w.second) >= 0.5 * total) {
+            median = w.first;
+            break;
+        }
+    for (const double top : {top_cells, top_points}) {
+        EXPECT_LT(top, 0.6 * brightest);
+        // Half the surface area in the upper three quarters of the scale (it was the bottom
+        // quarter), and the scale still above the median.
+        EXPECT_GT(median / top, 0.25) << median << " " << top;
+        EXPECT_LT(median / top, 1.0);
+    }
+    // Looking away from everything lit (at the floor from just above it, face-on), the scale
+    // follows the view.
+    CameraPose down = pose;
+    down.position = {278, 10, 279};
+    down.focal_point = {278, 0, 279};
+    down.view_up = {0, 0, 1};
+    down.view_angle = 20;
+    EXPECT_NE(luminance_scale_top(g, down, 1.0, false), top_cells);
+}
+
+namespace {
+
+/// The share of the picture from `pose` whose first face is one of surfaces [first, last]: rays
+/// through a 24 x 24 grid of the frame (aspect 1).
+double frame_share(vtkUnstructuredGrid* g, const CameraPose& pose, int first, int last) {
+    vtkNew<vtkCellLocator> locator;
+    locator->SetDataSet(g);
+    locator->BuildLocator();
+    using V = std::array<double, 3>;
+    auto minus = [](V a, V b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+    auto cross = [](V a, V b) {
+        return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    };
+    auto unit = [](V a) {
+        const double l = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        return V{a[0] / l, a[1] / l, a[2] / l};
+    };
+    const V f = unit(minus(pose.focal_point, pose.position));
+    const V r = unit(cross(f, pose.view_up));
+    const V u = cross(r, f);
+    const double t = std::tan(pose.view_angle * M_PI / 360.0);
+    auto* surface = g->GetCellData()->GetArray("surface");
+    int hits = 0, rays = 0;
+    for (int i = 0; i < 24; ++i)
+        for (int j = 0; j < 24; ++j, ++rays) {
+            const double x = t * (-1 + 2 * (i + 0.5) / 24), y = t * (-1 + 2 * (j + 0.5) / 24);
+            V to;
+            for (int a = 0; a < 3; ++a) to[a] = pose.position[a] + 1000 * (f[a] + x * r[a] + y * u[a]);
+            double tt, xx[3], pc[3];
+            int sub;
+            vtkIdType cell = -1;
+            if (locator->IntersectWithLine(pose.position.data(), to.data(), 1e-9, tt, xx, pc, sub, cell)) {
+                const int s = int(surface->GetTuple1(cell));
+                hits += s >= first && s <= last;
+            }
+        }
+    return double(hits) / rays;
+}
+
+}  // namespace
+
+// Issue 35, item 14: in a closed room the auto camera stood just inside the most open wall's
+// centre, behind a cube that filled much of the frame. It now tries other places with rays.
+TEST(AutoCamera, StandsWhereALargeObjectDoesNotBlockTheView) {
+    test::TempDir dir;
+    // A 6 x 3 x 6 room (y up), a lamp under the ceiling, a 1.6 cube a little in front of the
+    // -z wall's centre, where the camera stood.
+    const auto json = dir.write("room.json", R"({"materials": {"w": {"reflectance": 0.6},
+        "lamp": {"reflectance": 0, "emission": 5}}, "objects": [
+        {"type": "box", "material": "w", "inward": true, "transform": {"scale": [6, 3, 6]}},
+        {"type": "quad", "material": "lamp", "transform": {"rotate": {"axis": [1, 0, 0], "degrees": 90},
+            "translate": [0, 1.45, 0]}},
+        {"type": "box", "material": "w", "transform": {"scale": 1.6, "translate": [0, -0.7, -1.9]}}]})");
+    const Scene scene = read_json_scene(json);
+    MeshingOptions mo;
+    mo.target_patches = 300;
+    const PatchMesh mesh(scene, mo);
+    SolveResult r;
+    r.radiosity.assign(mesh.size(), Rgb::gray(0.5));
+    const auto g = make_solution_grid(mesh, r, {json.string(), ""});
+    const CameraPose pose = choose_camera(g, "auto", 0.0, 1.0);
+    // The room's 6 faces, the lamp, then the cube's 6.
+    EXPECT_LT(frame_share(g, pose, 7, 12), 0.2);
+    // Standing inside the room, looking across it (not from outside).
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_GT(pose.position[a], a == 1 ? -1.5 : -3.0);
+        EXPECT_LT(pose.position[a], a == 1 ? 1.5 : 3.0);
+    }
+    // Where it stood before, behind the cube: the cube took far more of the frame.
+    CameraPose before = pose;
+    before.position = {0, 0, -3 + 0.02 * 6};
+    before.focal_point = {0, 0, 3};
+    EXPECT_GT(frame_share(g, before, 7, 12), 0.3);
 }

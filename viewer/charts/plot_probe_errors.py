@@ -47,5 +47,5 @@ for k, (column, title) in enumerate([("patch_error", "patch values"), ("smooth_e
 fig.colorbar(sc, ax=fig.axes, shrink=0.7, label="relative error of luminance against the path-traced reference, %")
 fig.suptitle(f"Error at each path-traced probe, {mesh}")
 out = os.path.join(folder, "probe_errors.png")
-fig.savefig(out + ".tmp.png", dpi=100)
+fig.savefig(out + ".tmp.png", dpi=100, bbox_inches="tight")  # the title whole
 os.replace(out + ".tmp.png", out)
