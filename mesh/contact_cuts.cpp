@@ -2,6 +2,7 @@
 #include "mesh/contact_cuts.h"
 
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -50,13 +51,13 @@ struct SurfaceFrame {
 };
 
 /// Cosine-distributed directions about n on a stratified 8 x 8 grid (Malley's method).
-std::vector<V> hemisphere_directions(const V& n) {
+std::vector<V> hemisphere_directions(const V& n, int side = 8) {
     const V t = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, V(1, 0, 0)) : glm::cross(n, V(0, 1, 0)));
     const V b = glm::cross(n, t);
     std::vector<V> out;
-    for (int i = 0; i < 8; ++i)
-        for (int j = 0; j < 8; ++j) {
-            const double u = (i + 0.5) / 8, v = (j + 0.5) / 8;
+    for (int i = 0; i < side; ++i)
+        for (int j = 0; j < side; ++j) {
+            const double u = (i + 0.5) / side, v = (j + 0.5) / side;
             const double r = std::sqrt(u), phi = 2 * std::numbers::pi * v;
             out.push_back(glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(1 - u) * n));
         }
@@ -181,9 +182,11 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
     const double reach = std::max(tol, std::min(kNearGap * largest_side, 0.05 * diag));
 
     // Enclosed: every ray from just above x meets the back of some surface first.
-    auto enclosed = [&](const V& x, const V& normal) {
+    // `side` x `side` stratified cosine directions: 64 where one point decides, 16 a point
+    // where eight spread over a loop must all agree (128 rays, as two points of 64).
+    auto enclosed = [&](const V& x, const V& normal, int side = 8) {
         const V from = x + 1e-6 * diag * normal;
-        for (const V& d : hemisphere_directions(normal)) {
+        for (const V& d : hemisphere_directions(normal, side)) {
             const int t = tree.first_hit(from, d);
             if (t < 0) return false;
             if (glm::dot(frame[std::size_t(t)].normal, d) <= 0) return false;  // a front face: light can come from there
@@ -322,14 +325,21 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
                 for (std::size_t k = 0; k < c.size() && covered; ++k)
                     covered = enclosed(0.5 * (centre + c[k]), S.normal);
             }
-            // A loop is judged at the centre of each of its triangles (up to 16) and half-way
-            // from there to each corner: a few points can all fall inside objects that merely
+            // A loop is judged at the centres of its two largest triangles and half-way from
+            // there to their corners: a point or two can both fall inside objects that merely
             // cross this surface, and a room's own outline would then hide the whole surface.
-            for (std::size_t k = 0; k < tri.size() && k < 16 && covered && !(hung[ci] > tol); ++k) {
-                const V centre = (c[tri[k][0]] + c[tri[k][1]] + c[tri[k][2]]) / 3.0;
-                covered = enclosed(centre, S.normal);
+            std::vector<std::size_t> order(tri.size());
+            std::iota(order.begin(), order.end(), std::size_t(0));
+            const auto tri_area = [&](std::size_t k) {
+                return glm::length(glm::cross(c[tri[k][1]] - c[tri[k][0]], c[tri[k][2]] - c[tri[k][0]]));
+            };
+            std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tri_area(a) > tri_area(b); });
+            for (std::size_t j = 0; j < order.size() && j < 2 && covered && !(hung[ci] > tol); ++j) {
+                const auto& t = tri[order[j]];
+                const V centre = (c[t[0]] + c[t[1]] + c[t[2]]) / 3.0;
+                covered = enclosed(centre, S.normal, 4);
                 for (int corner = 0; corner < 3 && covered; ++corner)
-                    covered = enclosed(0.5 * (centre + c[tri[k][corner]]), S.normal);
+                    covered = enclosed(0.5 * (centre + c[t[corner]]), S.normal, 4);
             }
             if (!covered) continue;
             // Convex loops stay whole; others go as their (convex) triangles.

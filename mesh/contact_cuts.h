@@ -19,9 +19,11 @@ namespace bounce {
 /// diagonal), and the outlines of surfaces lying parallel in front of it with the same facing
 /// (their backs towards it), flush or hung at a gap of at most 1/20 of their side (a lamp panel
 /// a centimetre below a ceiling; CoveredRegion::gap records it). A candidate counts only if it
-/// is enclosed: from points inside it every one of 64 cosine-distributed rays meets a back face
-/// (CGAL AABB tree), so a loop that light can enter (the legs of a table, an open frame) never
-/// removes anything. Non-convex loops come back as triangles.
+/// is enclosed: from points inside it every cosine-distributed ray meets a back face (CGAL AABB
+/// tree; a hung cover: 64 rays at its centre and half-way to each corner; a loop: 16 rays at
+/// the centres of its two largest triangles and half-way to their corners), so a loop that
+/// light can enter (the legs of a table, an open frame) never removes anything. Non-convex
+/// loops come back as triangles. Appends find_solid_cuts (mesh/solid_cuts.h).
 std::vector<CoveredRegion> find_covered_regions(const Scene& scene);
 
 /// Convex polygon `poly` (in the plane with unit normal `normal`) minus convex polygon `hole`:

@@ -9,6 +9,8 @@
 #include <string>
 #include <utility>
 
+#include <CGAL/Bbox_3.h>
+#include <CGAL/box_intersection_d.h>
 #include <glm/geometric.hpp>
 
 #include "mesh/polygon.h"
@@ -26,11 +28,6 @@ struct Box3 {
     void add(const V& p) {
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);
-    }
-    bool overlaps(const Box3& o, double eps) const {
-        for (int k = 0; k < 3; ++k)
-            if (lo[k] > o.hi[k] + eps || o.lo[k] > hi[k] + eps) return false;
-        return true;
     }
 };
 
@@ -153,6 +150,30 @@ std::vector<CoveredRegion> find_solid_cuts(const Scene& scene) {
     for (std::size_t k = 0; k < solids.size(); ++k)
         for (const int s : solids[k].surfaces) owner[std::size_t(s)] = int(k);
 
+    // The surfaces whose bounds meet each box's (CGAL's box intersection, Zomorodian and
+    // Edelsbrunner 2000: n log^3 n rather than solids x surfaces). Rooms look at every surface.
+    using IdBox = CGAL::Box_intersection_d::Box_with_handle_d<double, 3, std::size_t,
+                                                               CGAL::Box_intersection_d::ID_EXPLICIT>;
+    const auto to_box = [](const Box3& b, double pad, std::size_t id) {
+        return IdBox(CGAL::Bbox_3(b.lo.x - pad, b.lo.y - pad, b.lo.z - pad, b.hi.x + pad, b.hi.y + pad, b.hi.z + pad),
+                     id);
+    };
+    std::vector<IdBox> solid_boxes, surface_boxes;
+    for (std::size_t k = 0; k < solids.size(); ++k) {
+        if (solids[k].inward) continue;
+        Box3 sb;
+        for (const int s : solids[k].surfaces)
+            for (const V& p : scene.surfaces[std::size_t(s)].vertices) sb.add(p);
+        solid_boxes.push_back(to_box(sb, 1e-7 * glm::length(sb.hi - sb.lo), k));
+    }
+    for (std::size_t s = 0; s < n; ++s)
+        if (area[s] > 0) surface_boxes.push_back(to_box(bound[s], 0.0, s));
+    std::vector<std::vector<int>> near(solids.size());
+    if (!solid_boxes.empty() && !surface_boxes.empty())
+        CGAL::box_intersection_d(solid_boxes.begin(), solid_boxes.end(), surface_boxes.begin(), surface_boxes.end(),
+                                 [&](const IdBox& a, const IdBox& b) { near[a.handle()].push_back(int(b.handle())); });
+    for (auto& v : near) std::sort(v.begin(), v.end());
+
     // Objects by source and name, so a surface wholly outside a room counts as outside only
     // when another surface of its object reaches into the room.
     std::map<std::pair<std::string, std::string>, int> object_id;
@@ -177,11 +198,17 @@ std::vector<CoveredRegion> find_solid_cuts(const Scene& scene) {
         // Convex pieces of each candidate surface (most are triangles or convex quads already);
         // empty for surfaces of the solid itself, degenerate ones, and those lying in one of
         // its planes (a floor under a box, a picture on a wall: the contact cuts' case).
-        std::vector<std::vector<std::vector<V>>> pieces(n);
-        std::vector<char> reaches_in(object_id.size(), 0);
-        for (std::size_t s = 0; s < n; ++s) {
+        std::vector<std::vector<std::vector<V>>> pieces;  // per entry of looked_at
+        std::vector<char> reaches_in(solid.inward ? object_id.size() : 0, 0);
+        std::vector<int> all;
+        if (solid.inward) {
+            all.resize(n);
+            for (std::size_t s = 0; s < n; ++s) all[s] = int(s);
+        }
+        std::vector<std::size_t> looked_at;
+        for (const int si : solid.inward ? all : near[k]) {
+            const auto s = std::size_t(si);
             if (owner[s] == int(k) || !(area[s] > 0)) continue;
-            if (!solid.inward && !bound[s].overlaps(sb, eps)) continue;
             const auto& poly = scene.surfaces[s].vertices;
             bool in_plane = false;
             for (std::size_t f = 0; f < solid.normals.size() && !in_plane; ++f) {
@@ -193,23 +220,26 @@ std::vector<CoveredRegion> find_solid_cuts(const Scene& scene) {
                     }
             }
             if (in_plane) continue;
+            looked_at.push_back(s);
+            auto& mine = pieces.emplace_back();
             if (is_convex(poly, normal[s])) {
-                pieces[s].push_back(poly);
+                mine.push_back(poly);
             } else {
-                for (const auto& t : triangulate_polygon(poly)) pieces[s].push_back({poly[t[0]], poly[t[1]], poly[t[2]]});
+                for (const auto& t : triangulate_polygon(poly)) mine.push_back({poly[t[0]], poly[t[1]], poly[t[2]]});
             }
             if (solid.inward)
-                for (const auto& piece : pieces[s]) {
+                for (const auto& piece : mine) {
                     const auto inside = clip_all(piece, false);
                     if (inside.size() >= 3 && polygon_area(inside) > 1e-9 * area[s]) reaches_in[std::size_t(object_of[s])] = 1;
                 }
         }
-        for (std::size_t s = 0; s < n; ++s) {
+        for (std::size_t e = 0; e < looked_at.size(); ++e) {
+            const std::size_t s = looked_at[e];
             const double min_area = 1e-9 * area[s];
             const auto keep = [&](std::vector<V>&& c) {
                 if (c.size() >= 3 && polygon_area(c) > min_area) out.push_back({int(s), std::move(c), 0.0});
             };
-            for (const auto& piece : pieces[s]) {
+            for (const auto& piece : pieces[e]) {
                 if (!solid.inward) {
                     // Inside a box: behind every one of its (outward) face planes.
                     keep(clip_all(piece, true));

@@ -14,7 +14,7 @@ struct ExportInfo {
     std::string scene;      // scene name or path
     std::string settings;   // free text: meshing and form-factor settings
     bool text_as_chars = false;  // text fields as Int8 char arrays (meshio reads them; ParaView shows numbers)
-    std::string units;           // the scene's length unit ("mm"); empty: unknown (no field written)
+    std::string units{};         // the scene's length unit ("mm"); empty: unknown (no field written)
 };
 
 /// Writes a VTK XML unstructured grid (.vtu) with one cell per patch.

@@ -998,7 +998,7 @@ TEST(Cli, InfoTableIsAlignedAndNamesJsonMeshes) {
         "objects": [{"type": "box", "material": "w", "inward": true, "transform": {"scale": 4}},
                     {"type": "mesh", "file": "plate.obj", "material": "lamp", "name": "panel",
                      "transform": {"rotate": {"axis": [1, 0, 0], "degrees": 180}, "translate": [0, 0, 1.9]}}]})";
-    for (const std::string scene : {std::string(""), (dir / "s.json").string()}) {
+    for (const std::string& scene : {std::string(""), (dir / "s.json").string()}) {
         const auto r = bounce_run("info " + scene);
         ASSERT_EQ(r.exit_code, 0) << r.err;
         const auto header = r.out.find("surface  patches");
@@ -1017,7 +1017,9 @@ TEST(Cli, InfoTableIsAlignedAndNamesJsonMeshes) {
         }
         EXPECT_GE(rows, 7) << r.out;
         EXPECT_EQ(r.out.find("(default)"), std::string::npos) << r.out;
-        if (!scene.empty()) EXPECT_NE(r.out.find("plate.obj:5 (panel)"), std::string::npos) << r.out;
+        if (!scene.empty()) {
+            EXPECT_NE(r.out.find("plate.obj:5 (panel)"), std::string::npos) << r.out;
+        }
     }
     const auto help = bounce_run("solve --help");
     EXPECT_NE(help.out.find(".ply/.off"), std::string::npos) << help.out;
