@@ -167,6 +167,10 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
     }
     const SurfaceTree tree(scene);
     if (tree.empty()) return out;
+    const auto solids = find_convex_solids(scene);
+    std::vector<char> in_solid(n, 0);
+    for (const auto& solid : solids)
+        for (const int t : solid.surfaces) in_solid[std::size_t(t)] = 1;
     const double diag = glm::length(hi - lo);
     const double tol = 5e-4 * diag;  // "resting on": a gap below this is contact
     // A surface hung parallel in front of another, its back towards it (a lamp just below a
@@ -243,6 +247,9 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
                 continue;
             }
             if (hmin > tol || hmax < -tol) continue;  // apart
+            // A closed convex object crossing the plane is cut exactly (find_solid_cuts); its
+            // segments here would only chain with others' into loops that are partly open.
+            if (in_solid[std::size_t(t)] && hmin < -tol && hmax > tol) continue;
             if (hmin >= -tol && hmax <= tol) {
                 // Flush with this surface: it covers it when it faces the same way and lies in
                 // front (its back towards this surface's front), like a lamp under a ceiling.
@@ -337,9 +344,9 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
             for (std::size_t j = 0; j < order.size() && j < 2 && covered && !(hung[ci] > tol); ++j) {
                 const auto& t = tri[order[j]];
                 const V centre = (c[t[0]] + c[t[1]] + c[t[2]]) / 3.0;
-                covered = enclosed(centre, S.normal, 4);
+                covered = enclosed(centre, S.normal, 8);
                 for (int corner = 0; corner < 3 && covered; ++corner)
-                    covered = enclosed(0.5 * (centre + c[t[corner]]), S.normal, 4);
+                    covered = enclosed(0.5 * (centre + c[t[corner]]), S.normal, 8);
             }
             if (!covered) continue;
             // Convex loops stay whole; others go as their (convex) triangles.
@@ -356,7 +363,7 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
     }
     });
     for (auto& f : found) out.insert(out.end(), std::make_move_iterator(f.begin()), std::make_move_iterator(f.end()));
-    for (auto& c : find_solid_cuts(scene)) out.push_back(std::move(c));
+    for (auto& c : find_solid_cuts(scene, solids)) out.push_back(std::move(c));
     return out;
 }
 

@@ -16,7 +16,8 @@ namespace bounce {
 
 /// Finds the covered regions of every surface. Candidates are closed loops of the segments in
 /// which other surfaces touch or cross the surface's plane (within 5e-4 of the scene's
-/// diagonal), and the outlines of surfaces lying parallel in front of it with the same facing
+/// diagonal; of closed convex objects only where they touch it, since find_solid_cuts cuts
+/// their crossings exactly), and the outlines of surfaces lying parallel in front of it with the same facing
 /// (their backs towards it), flush or hung at a gap of at most 1/20 of their side (a lamp panel
 /// a centimetre below a ceiling; CoveredRegion::gap records it). A candidate counts only if it
 /// is enclosed: from points inside it every cosine-distributed ray meets a back face (CGAL AABB

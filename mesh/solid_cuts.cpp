@@ -132,9 +132,10 @@ std::vector<ConvexSolid> find_convex_solids(const Scene& scene) {
     return out;
 }
 
-std::vector<CoveredRegion> find_solid_cuts(const Scene& scene) {
+std::vector<CoveredRegion> find_solid_cuts(const Scene& scene) { return find_solid_cuts(scene, find_convex_solids(scene)); }
+
+std::vector<CoveredRegion> find_solid_cuts(const Scene& scene, const std::vector<ConvexSolid>& solids) {
     std::vector<CoveredRegion> out;
-    const auto solids = find_convex_solids(scene);
     if (solids.empty()) return out;
     const std::size_t n = scene.surfaces.size();
     std::vector<Box3> bound(n);

@@ -33,4 +33,7 @@ std::vector<ConvexSolid> find_convex_solids(const Scene& scene);
 /// Exact clipping: convex pieces, counter-clockwise seen from the surface's front.
 std::vector<CoveredRegion> find_solid_cuts(const Scene& scene);
 
+/// The same with the solids already found (find_convex_solids).
+std::vector<CoveredRegion> find_solid_cuts(const Scene& scene, const std::vector<ConvexSolid>& solids);
+
 }  // namespace bounce
