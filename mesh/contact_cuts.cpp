@@ -149,6 +149,11 @@ std::vector<std::vector<V>> subtract_convex(const std::vector<V>& poly, const st
 }
 
 std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
+    if (scene.surfaces.size() < 2) return {};
+    return find_covered_regions(scene, SurfaceTree(scene));
+}
+
+std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const SurfaceTree& tree) {
     const std::size_t n = scene.surfaces.size();
     std::vector<CoveredRegion> out;
     if (n < 2) return out;
@@ -165,7 +170,6 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
         if (!(len > 0)) continue;
         frame[s] = {nn / len, poly[0], 0.5 * len};
     }
-    const SurfaceTree tree(scene);
     if (tree.empty()) return out;
     const auto solids = find_convex_solids(scene);
     std::vector<char> in_solid(n, 0);
@@ -223,6 +227,14 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
         }
         const std::vector<int> others = tree.in_box(slo - V(reach), shi + V(reach));
         std::vector<double> hung;  // per candidate: the gap of a parallel cover in front (0: a contact)
+        // A surface parallel in front of this one, its back towards it, projected onto it.
+        const auto add_cover = [&](const std::vector<V>& poly, double gap) {
+            std::vector<V> c;
+            for (const auto& v : poly) c.push_back(project(v));
+            candidates.push_back(std::move(c));
+            hung.resize(candidates.size(), 0.0);
+            hung.back() = gap;
+        };
 
         for (const int t : others) {
             if (t == int(s) || !(frame[std::size_t(t)].area > 0)) continue;
@@ -239,11 +251,7 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
             if (hmin > tol && same_facing && hmax - hmin <= tol && !emits &&
                 hmin <= kNearGap * std::sqrt(frame[std::size_t(t)].area)) {
                 // Hung in front at a small gap, its back towards this surface.
-                std::vector<V> c;
-                for (const auto& v : tpoly) c.push_back(project(v));
-                candidates.push_back(std::move(c));
-                hung.resize(candidates.size(), 0.0);
-                hung.back() = 0.5 * (hmin + hmax);
+                add_cover(tpoly, 0.5 * (hmin + hmax));
                 continue;
             }
             if (hmin > tol || hmax < -tol) continue;  // apart
@@ -253,13 +261,7 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene) {
             if (hmin >= -tol && hmax <= tol) {
                 // Flush with this surface: it covers it when it faces the same way and lies in
                 // front (its back towards this surface's front), like a lamp under a ceiling.
-                if (same_facing && hmin + hmax >= 0) {
-                    std::vector<V> c;
-                    for (const auto& v : tpoly) c.push_back(project(v));
-                    candidates.push_back(std::move(c));
-                    hung.resize(candidates.size(), 0.0);
-                    hung.back() = 0.5 * (hmin + hmax);
-                }
+                if (same_facing && hmin + hmax >= 0) add_cover(tpoly, 0.5 * (hmin + hmax));
                 continue;
             }
             // Touches or crosses the plane: the segment it leaves there.

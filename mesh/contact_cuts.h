@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include "mesh/scene.h"
+#include "mesh/surface_tree.h"
 
 namespace bounce {
 
@@ -26,6 +27,9 @@ namespace bounce {
 /// light can enter (the legs of a table, an open frame) never removes anything. Non-convex
 /// loops come back as triangles. Appends find_solid_cuts (mesh/solid_cuts.h).
 std::vector<CoveredRegion> find_covered_regions(const Scene& scene);
+
+/// The same with the scene's surface tree already built (load_scene shares one).
+std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const SurfaceTree& tree);
 
 /// Convex polygon `poly` (in the plane with unit normal `normal`) minus convex polygon `hole`:
 /// `poly` itself when they do not overlap (by more than `min_area`), nothing when the hole

@@ -43,6 +43,11 @@ struct Group {
 }  // namespace
 
 std::vector<ReversedSurface> find_reversed_surfaces(const Scene& scene) {
+    if (scene.surfaces.size() < 2) return {};
+    return find_reversed_surfaces(scene, SurfaceTree(scene));
+}
+
+std::vector<ReversedSurface> find_reversed_surfaces(const Scene& scene, const SurfaceTree& tree) {
     const std::size_t n = scene.surfaces.size();
     std::vector<ReversedSurface> out;
     if (n < 2) return out;
@@ -96,7 +101,6 @@ std::vector<ReversedSurface> find_reversed_surfaces(const Scene& scene) {
     if (groups.size() > kGroups) groups.resize(kGroups);
     if (groups.empty()) return out;
 
-    const SurfaceTree tree(scene);
     if (tree.empty()) return out;
     const double lift = 1e-6 * diag;
 

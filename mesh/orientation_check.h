@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mesh/scene.h"
+#include "mesh/surface_tree.h"
 
 namespace bounce {
 
@@ -27,6 +28,9 @@ struct ReversedSurface {
 /// front face. Only groups holding at least 1e-3 of the scene's area are looked at, the 512
 /// largest, so the work stays under 66k rays on any scene. Deterministic.
 std::vector<ReversedSurface> find_reversed_surfaces(const Scene& scene);
+
+/// The same with the scene's surface tree already built (load_scene shares one).
+std::vector<ReversedSurface> find_reversed_surfaces(const Scene& scene, const SurfaceTree& tree);
 
 /// "orientation: file.obj:12 (wall) faces away from the scene: ...", with the fix (reverse the
 /// face's vertices, or "flip": true on its JSON object).

@@ -11,6 +11,7 @@
 #include "mesh/json_scene.h"
 #include "mesh/obj_reader.h"
 #include "mesh/orientation_check.h"
+#include "mesh/surface_tree.h"
 
 namespace bounce {
 
@@ -49,8 +50,10 @@ Scene load_scene(const std::string& spec, const LoadOptions& options) {
     Scene scene = read_scene(spec);
     if (options.flip)
         for (auto& surface : scene.surfaces) std::reverse(surface.vertices.begin(), surface.vertices.end());
-    scene.covered = find_covered_regions(scene);
-    for (const auto& r : find_reversed_surfaces(scene)) scene.warnings.push_back(reversed_surface_warning(scene, r));
+    // One tree serves both searches: it holds the geometry, which the flip does not change.
+    const SurfaceTree tree(scene);
+    scene.covered = find_covered_regions(scene, tree);
+    for (const auto& r : find_reversed_surfaces(scene, tree)) scene.warnings.push_back(reversed_surface_warning(scene, r));
     if (options.strict && !scene.warnings.empty()) throw InputError(scene.warnings.front() + " (--strict)");
     return scene;
 }
