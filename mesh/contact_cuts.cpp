@@ -192,12 +192,15 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const Surfac
     // Enclosed: every ray from just above x meets the back of some surface first.
     // `side` x `side` stratified cosine directions: 64 where one point decides, 16 a point
     // where eight spread over a loop must all agree (128 rays, as two points of 64).
+    // Where a back face lies flush with a front face (a cupboard's side against a wall), the
+    // ray meets the back: no light passes between them.
     auto enclosed = [&](const V& x, const V& normal, int side = 8) {
         const V from = x + 1e-6 * diag * normal;
         for (const V& d : hemisphere_directions(normal, side)) {
-            const int t = tree.first_hit(from, d);
-            if (t < 0) return false;
-            if (glm::dot(frame[std::size_t(t)].normal, d) <= 0) return false;  // a front face: light can come from there
+            const std::vector<int> first = tree.first_hits(from, d, tol);
+            if (std::none_of(first.begin(), first.end(),
+                             [&](int t) { return glm::dot(frame[std::size_t(t)].normal, d) > 0; }))
+                return false;  // nothing, or only front faces: light can come from there
         }
         return true;
     };

@@ -63,6 +63,21 @@ int SurfaceTree::first_hit(const glm::dvec3& from, const glm::dvec3& dir) const 
     return hit ? m_impl->owner[std::size_t(hit->second - m_impl->triangles.cbegin())] : -1;
 }
 
+std::vector<int> SurfaceTree::first_hits(const glm::dvec3& from, const glm::dvec3& dir, double slack) const {
+    if (empty()) return {};
+    const auto hit = m_impl->tree.first_intersection(K::Ray_3(to_cgal(from), K::Vector_3(dir.x, dir.y, dir.z)));
+    if (!hit) return {};
+    // Where along the ray: on the first triangle's plane.
+    const K::Triangle_3& tri = *hit->second;
+    const glm::dvec3 a(tri[0].x(), tri[0].y(), tri[0].z()), b(tri[1].x(), tri[1].y(), tri[1].z()),
+        c(tri[2].x(), tri[2].y(), tri[2].z());
+    const glm::dvec3 n = glm::cross(b - a, c - a), u = glm::normalize(dir);
+    const double along = glm::dot(n, u);
+    if (along == 0.0) return {m_impl->owner[std::size_t(hit->second - m_impl->triangles.cbegin())]};
+    const double t = glm::dot(n, a - from) / along;
+    return on_segment(from + std::max(0.0, t - slack) * u, from + (t + slack) * u);
+}
+
 std::vector<int> SurfaceTree::in_box(const glm::dvec3& lo, const glm::dvec3& hi) const {
     if (empty()) return {};
     std::vector<Primitive::Id> ids;

@@ -23,6 +23,9 @@ public:
     bool empty() const;
     /// The surface the ray from `from` along `dir` meets first, or -1.
     int first_hit(const glm::dvec3& from, const glm::dvec3& dir) const;
+    /// Every surface the ray meets where it meets the first, within `slack` along the ray
+    /// (coincident faces: a box's side flush with a wall), sorted; empty when it meets none.
+    std::vector<int> first_hits(const glm::dvec3& from, const glm::dvec3& dir, double slack) const;
     /// Surfaces with a triangle meeting the box [lo, hi], sorted, each once.
     std::vector<int> in_box(const glm::dvec3& lo, const glm::dvec3& hi) const;
     /// Surfaces with a triangle meeting the segment a-b, sorted, each once.

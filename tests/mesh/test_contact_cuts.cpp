@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <glm/geometric.hpp>
 
@@ -14,6 +15,7 @@
 #include "mesh/polygon.h"
 #include "mesh/scene_loader.h"
 #include "mesh/validation_scenes.h"
+#include "test_util.h"
 
 using namespace bounce;
 using V = glm::dvec3;
@@ -211,4 +213,46 @@ TEST(ContactCuts, EveryVertexLeftIsACornerOfAPatch) {
         EXPECT_LT(om.n_vertices(), corners / 2);
         EXPECT_EQ(om.n_faces(), m.size());
     }
+}
+
+TEST(ContactCuts, ABoxInACornerHidesItsFootprintOnTheFloorAndOnTheWall) {
+    // A box standing on the floor with one side flush against a wall: that side and the wall
+    // face each other at no distance, so a ray from under the box meets both at once and must
+    // count the box's side (a back face) as what it meets. A box on the floor alone and a box
+    // on the wall alone beside it.
+    const test::TempDir dir;
+    const auto path = dir.write("corner.json", R"({
+      "materials": { "w": { "reflectance": 0.7 }, "lamp": { "reflectance": 0, "emission": 10 } },
+      "objects": [
+        { "type": "box", "material": "w", "inward": true, "name": "room",
+          "transform": { "scale": [4, 3, 4], "translate": [0, 1.5, 0] } },
+        { "type": "quad", "material": "lamp", "name": "lamp",
+          "transform": { "scale": 0.5, "rotate": { "axis": [1, 0, 0], "degrees": 90 }, "translate": [0, 2.9, 0] } },
+        { "type": "box", "material": "w", "name": "in the corner",
+          "transform": { "scale": [0.4, 1.0, 1.0], "translate": [1.8, 0.5, 0] } },
+        { "type": "box", "material": "w", "name": "on the floor",
+          "transform": { "scale": [0.4, 1.0, 1.0], "translate": [-1, 0.5, 0] } },
+        { "type": "box", "material": "w", "name": "on the wall",
+          "transform": { "scale": [1, 0.5, 0.4], "translate": [0, 1.5, 1.8] } }
+      ] })");
+    const Scene s = load_scene(path.string());
+    // The room's faces by where they lie.
+    auto room_face = [&](int axis, double at) {
+        for (std::size_t k = 0; k < s.surfaces.size(); ++k) {
+            if (s.surfaces[k].object != "room") continue;
+            bool on = true;
+            for (const V& v : s.surfaces[k].vertices) on = on && std::abs(v[axis] - at) < 1e-12;
+            if (on) return int(k);
+        }
+        return -1;
+    };
+    const int floor = room_face(1, 0.0), east = room_face(0, 2.0), north = room_face(2, 2.0);
+    ASSERT_GE(floor, 0);
+    ASSERT_GE(east, 0);
+    ASSERT_GE(north, 0);
+    std::map<int, double> hidden;
+    for (const auto& c : s.covered) hidden[c.surface] += polygon_area(c.polygon);
+    EXPECT_NEAR(hidden[floor], 0.4 + 0.4, 1e-9);  // both standing boxes' footprints
+    EXPECT_NEAR(hidden[east], 1.0, 1e-9);         // the corner box's 1 x 1 side
+    EXPECT_NEAR(hidden[north], 0.5, 1e-9);        // the wall box's back, 1 x 0.5
 }
