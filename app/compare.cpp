@@ -28,6 +28,7 @@
 #include "solver/linear/gathering_solver.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/linear/solver.h"
+#include "solver/reference/probe_classes.h"
 #include "solver/reference/probe_score.h"
 #include "solver/refinement/adaptive_radiosity.h"
 #include "solver/refinement/hierarchical_radiosity.h"
@@ -70,18 +71,52 @@ struct CompareCommand {
     std::string gather = "vertices";  // point data of every run, as solve writes it
 };
 
-/// The probe columns shared by runs.csv and meshes.csv.
-constexpr const char* kProbeColumns =
-    "probe_rms_patch,probe_max_patch,probe_rms_smooth,probe_max_smooth,probe_rms_smooth_r,probe_rms_smooth_g,"
-    "probe_rms_smooth_b,probe_points,reference_noise";
+/// The probe columns shared by runs.csv and meshes.csv: the scores over every probe, then per
+/// probe class (ProbeClass) the point data's RMS and worst, the patch values' RMS and the count.
+std::string probe_columns() {
+    std::string h =
+        "probe_rms_patch,probe_max_patch,probe_rms_smooth,probe_max_smooth,probe_rms_smooth_r,probe_rms_smooth_g,"
+        "probe_rms_smooth_b,probe_points,reference_noise";
+    for (const ProbeClass c : kProbeClasses) {
+        const std::string n = to_string(c);
+        h += ",probe_rms_smooth_" + n + ",probe_max_smooth_" + n + ",probe_rms_patch_" + n + ",probe_points_" + n;
+    }
+    return h;
+}
 
-std::string probe_fields(const ProbeScore& s) {
+std::string probe_fields(const ProbeScore& s, std::span<const ProbeClass> classes) {
     std::ostringstream t;
     t.precision(6);
     t << s.rms_patch << ',' << s.max_patch << ',' << s.rms_smooth << ',' << s.max_smooth << ','
       << s.rms_smooth_channel.r << ',' << s.rms_smooth_channel.g << ',' << s.rms_smooth_channel.b << ',' << s.scored
       << ',' << s.reference_noise;
+    for (const ClassScore& c : score_by_class(s, classes)) {
+        t << ',';
+        if (c.scored) t << c.rms_smooth;
+        t << ',';
+        if (c.scored) t << c.max_smooth;
+        t << ',';
+        if (c.scored) t << c.rms_patch;
+        t << ',' << c.scored;
+    }
     return t.str();
+}
+
+/// How many probes of each class the scores below rest on.
+void print_class_counts(std::span<const ProbeClass> classes) {
+    std::printf("probe classes (penumbra, contact: point data RMS / worst):");
+    for (const ProbeClass c : kProbeClasses)
+        std::printf(" %s %zu", to_string(c).c_str(), std::size_t(std::count(classes.begin(), classes.end(), c)));
+    std::printf("\n");
+}
+
+/// "2.31% / 7.80%": RMS and worst of the point data over one class's probes ("-" with none).
+std::string class_text(const ProbeScore& s, std::span<const ProbeClass> classes, ProbeClass which) {
+    const ClassScore c = score_by_class(s, classes)[std::size_t(which)];
+    if (!c.scored) return "-";
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.2f%% / %.1f%%", 100 * c.rms_smooth, 100 * c.max_smooth);
+    return buf;
 }
 
 /// A number as a stream prints it (1e-05).
@@ -121,6 +156,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
                      double(P.size()) * std::pow(per_level, c.reference_level) * double(P.size()) * 4.0 * 2.0);
     // The truth every row is scored on: path-traced probes, computed once and cached.
     const std::vector<ReferencePoint> probes = reference_for_compare(scene, c.reference, c.out, o.quiet);
+    const std::vector<ProbeClass> classes = probe_classes(scene, probes);
     // Scores a solution as solve would write it: point data gathered (the time added to the
     // row's seconds) when the mesh is within the gather's budget. (A hierarchical solution
     // gathers through its links, below, and weighs its own budget from the lists it builds.)
@@ -288,11 +324,11 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     }
     progress.finish();
     std::ostringstream csv;
-    csv << "method,setting,elements,links,seconds,rms_error," << kProbeColumns << ",point_data\n";
+    csv << "method,setting,elements,links,seconds,rms_error," << probe_columns() << ",point_data\n";
     for (const auto& r : rows) {
         csv << r.method << "," << r.setting << "," << r.elements << "," << r.links << "," << r.seconds << ",";
         if (r.rms >= 0) csv << r.rms;
-        csv << "," << probe_fields(r.probe) << "," << (r.gathered ? "gathered" : "averaged") << "\n";
+        csv << "," << probe_fields(r.probe, classes) << "," << (r.gathered ? "gathered" : "averaged") << "\n";
     }
     const std::filesystem::path dir = c.out;
     write_text_file(
@@ -352,13 +388,18 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         // The setting column as wide as its longest entry ("link epsilon 0.1 power epsilon 1e-05").
         int width = 18;
         for (const auto& r : rows) width = std::max(width, int(r.setting.size()));
-        std::printf("%-13s %-*s %9s %10s %9s %9s %11s %12s %9s\n", "method", width, "setting", "elements", "links",
-                    "seconds", "vs fine", "probe patch", "probe smooth", "points");
+        std::printf("%-13s %-*s %9s %10s %9s %9s %11s %12s %11s %16s %16s %9s\n", "method", width, "setting",
+                    "elements", "links", "seconds", "vs fine", "probe patch", "probe smooth", "worst", "penumbra",
+                    "contact", "points");
         for (const auto& r : rows)
-            std::printf("%-13s %-*s %9zu %10s %9.3f %9s %10.2f%% %11.2f%% %9s\n", r.method.c_str(), width,
-                        r.setting.c_str(), r.elements, r.links ? std::to_string(r.links).c_str() : "-", r.seconds,
-                        r.rms >= 0 ? std::to_string(r.rms).substr(0, 6).c_str() : "-", 100 * r.probe.rms_patch,
-                        100 * r.probe.rms_smooth, r.gathered ? "gathered" : "averaged");
+            std::printf("%-13s %-*s %9zu %10s %9.3f %9s %10.2f%% %11.2f%% %10.1f%% %16s %16s %9s\n", r.method.c_str(),
+                        width, r.setting.c_str(), r.elements, r.links ? std::to_string(r.links).c_str() : "-",
+                        r.seconds, r.rms >= 0 ? std::to_string(r.rms).substr(0, 6).c_str() : "-",
+                        100 * r.probe.rms_patch, 100 * r.probe.rms_smooth, 100 * r.probe.max_smooth,
+                        class_text(r.probe, classes, ProbeClass::penumbra).c_str(),
+                        class_text(r.probe, classes, ProbeClass::contact).c_str(),
+                        r.gathered ? "gathered" : "averaged");
+        print_class_counts(classes);
         std::cout << "wrote " << (dir / "meshes.csv").string() << " and meshes.png\n";
     }
     return 0;
@@ -377,6 +418,7 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
     const auto& P = mesh.patches();
     const double n = double(P.size());
     const std::vector<ReferencePoint> probes = reference_for_compare(scene, c.reference, c.out, o.quiet);
+    const std::vector<ProbeClass> classes = probe_classes(scene, probes);
     for (const auto& m : c.methods) check_form_factor_memory(o, m, c.ff);
     check_memory(o, "the form-factor matrices and the reference (" + std::to_string(P.size()) + " patches)",
                  n * n * (4.0 * double(c.methods.size()) + (P.size() <= c.max_direct ? 8.0 : 0.0)));
@@ -439,14 +481,14 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
         [&](std::ostream& out) {
             out << "form_factors,solver,patches,steps,form_factor_seconds,solve_seconds,total_seconds,residual,"
                    "rms_error_vs_direct,"
-                << kProbeColumns << ",error_reference\n";
+                << probe_columns() << ",error_reference\n";
             out.precision(8);
             for (std::size_t k = 0; k < runs.size(); ++k) {
                 const auto& r = runs[k];
                 out << run_methods[k] << ',' << r.solver << ',' << P.size() << ',' << r.steps << ',' << ff_seconds[k]
                     << ',' << r.seconds << ',' << r.seconds + ff_seconds[k] << ',' << r.residual << ','
-                    << std::max(0.0, r.log.back().rms_error) << ',' << probe_fields(scores[k]) << ',' << reference_name
-                    << "\n";
+                    << std::max(0.0, r.log.back().rms_error) << ',' << probe_fields(scores[k], classes) << ','
+                    << reference_name << "\n";
             }
         },
         "run summary");
@@ -456,8 +498,9 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
             "probe errors: relative RMS luminance error at %zu path-traced probes (their own noise %.2f%%), "
             "patch value and smooth point data\n",
             scores.empty() ? std::size_t(0) : scores[0].scored, scores.empty() ? 0.0 : 100 * scores[0].reference_noise);
-        std::printf("%-10s %-13s %8s %10s %10s %11s %11s %18s %11s %12s\n", "ff", "solver", "steps", "solve s",
-                    "total s", "residual", "vs direct", "to 1e-3 (steps, s)", "probe patch", "probe smooth");
+        std::printf("%-10s %-13s %8s %10s %10s %11s %11s %18s %11s %12s %16s\n", "ff", "solver", "steps", "solve s",
+                    "total s", "residual", "vs direct", "to 1e-3 (steps, s)", "probe patch", "probe smooth",
+                    "penumbra");
         for (std::size_t k = 0; k < runs.size(); ++k) {
             const auto& r = runs[k];
             const auto& last = r.log.back();
@@ -467,10 +510,12 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
                     to = std::to_string(rec.step) + ", " + std::to_string(rec.seconds).substr(0, 6) + " s";
                     break;
                 }
-            std::printf("%-10s %-13s %8zu %10.3f %10.3f %11.3g %11.3g %18s %10.2f%% %11.2f%%\n", run_methods[k].c_str(),
-                        r.solver.c_str(), r.steps, r.seconds, r.seconds + ff_seconds[k], r.residual, last.rms_error,
-                        to.c_str(), 100 * scores[k].rms_patch, 100 * scores[k].rms_smooth);
+            std::printf("%-10s %-13s %8zu %10.3f %10.3f %11.3g %11.3g %18s %10.2f%% %11.2f%% %16s\n",
+                        run_methods[k].c_str(), r.solver.c_str(), r.steps, r.seconds, r.seconds + ff_seconds[k],
+                        r.residual, last.rms_error, to.c_str(), 100 * scores[k].rms_patch, 100 * scores[k].rms_smooth,
+                        class_text(scores[k], classes, ProbeClass::penumbra).c_str());
         }
+        print_class_counts(classes);
         std::cout << "patches " << P.size() << "; wrote " << (dir / "convergence.csv").string()
                   << ", runs.csv, convergence.png, speed_vs_accuracy.png\n";
     }

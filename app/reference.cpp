@@ -21,8 +21,9 @@ namespace bounce::app {
 namespace {
 
 struct ReferenceCommand {
-    std::string points;      // --points FILE.csv
-    std::size_t probes = 0;  // --probes N
+    std::string points;                 // --points FILE.csv
+    std::size_t probes = 0;             // --probes N
+    std::string probe_mix = "classes";  // --probe-mix: classes (probes_by_class) or area
     std::string output = "reference.csv";
     ReferenceOptions options;
     bool skip_missing = false;
@@ -55,9 +56,11 @@ int run_reference(const CommonOptions& o, const ReferenceCommand& r) {
             points.push_back(x);
         }
     } else {
-        const auto probes = tracer.probes(r.probes, r.options.seed);
+        std::vector<ProbeClass> classes;
+        const auto probes = r.probe_mix == "area" ? tracer.probes(r.probes, r.options.seed)
+                                                  : probes_by_class(tracer, r.probes, r.options.seed, classes);
         if (probes.empty()) throw InputError(o.scene + ": no surface to place probes on (every surface emits)");
-        input = probe_table(probes);
+        input = probe_table(probes, classes);
         points.assign(probes.begin(), probes.end());
     }
 
@@ -102,9 +105,15 @@ Command add_reference_command(CLI::App& app, CommonOptions& common) {
     cmd->add_option("scene", common.scene, "cornell (built-in), a .obj or a .json scene")->capture_default_str();
     auto* points = cmd->add_option("--points", r->points,
                                    "CSV with a header and columns x,y,z,nx,ny,nz (others are copied through)");
-    auto* probes = cmd->add_option("--probes", r->probes,
-                                   "instead of --points: N points spread by area over the non-emitting surfaces");
+    auto* probes =
+        cmd->add_option("--probes", r->probes,
+                        "instead of --points: N points on the non-emitting surfaces, spread as --probe-mix says");
     points->excludes(probes);
+    cmd->add_option("--probe-mix", r->probe_mix,
+                    "--probes: classes (a share each for penumbrae, contacts, points unlit by direct light and lit "
+                    "points, written in a class column) or area (spread by area alone)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"classes", "area"}));
     cmd->add_option("-o,--output", r->output,
                     "output CSV: the input columns plus B_r,B_g,B_b,se_r,se_g,se_b,paths,surface,status")
         ->capture_default_str();

@@ -45,15 +45,27 @@ std::uint64_t scene_hash(const Scene& scene) {
 
 }  // namespace
 
-CsvTable probe_table(std::span<const SurfacePoint> probes) {
+CsvTable probe_table(std::span<const SurfacePoint> probes, std::span<const ProbeClass> classes) {
     CsvTable t;
     t.header = {"x", "y", "z", "nx", "ny", "nz"};
-    for (const auto& p : probes) {
+    if (!classes.empty()) t.header.push_back("class");
+    for (std::size_t k = 0; k < probes.size(); ++k) {
+        const auto& p = probes[k];
         t.rows.push_back({number(p.position.x), number(p.position.y), number(p.position.z), number(p.normal.x),
                           number(p.normal.y), number(p.normal.z)});
+        if (!classes.empty()) t.rows.back().push_back(to_string(classes[k]));
         t.lines.push_back(int(t.rows.size()) + 1);
     }
     return t;
+}
+
+std::vector<ProbeClass> probe_classes(const Scene& scene, std::span<const ReferencePoint> reference) {
+    const PathTracer tracer(scene);
+    std::vector<ProbeClass> out(reference.size(), ProbeClass::lit);
+    for (std::size_t k = 0; k < reference.size(); ++k)
+        if (const auto x = tracer.locate(reference[k].position, reference[k].normal))
+            out[k] = classify_probe(tracer, *x, k);
+    return out;
 }
 
 CsvTable estimate_table(const PathTracer& tracer, const CsvTable& input,
@@ -102,7 +114,8 @@ std::vector<ReferencePoint> reference_for_compare(const Scene& scene, const std:
                                                   const std::filesystem::path& folder, bool quiet) {
     if (!given.empty()) return read_reference(given);
     char name[64];
-    std::snprintf(name, sizeof name, "reference-%016llx.csv", static_cast<unsigned long long>(scene_hash(scene)));
+    std::snprintf(name, sizeof name, "reference-classes-%016llx.csv",
+                  static_cast<unsigned long long>(scene_hash(scene)));
     const std::filesystem::path cached = folder / name;
     std::error_code ec;
     if (std::filesystem::is_regular_file(cached, ec)) {
@@ -111,9 +124,10 @@ std::vector<ReferencePoint> reference_for_compare(const Scene& scene, const std:
     }
     const PathTracer tracer(scene);
     const ReferenceOptions options;
-    const auto probes = tracer.probes(kCompareProbes, options.seed);
+    std::vector<ProbeClass> classes;
+    const auto probes = probes_by_class(tracer, kCompareProbes, options.seed, classes);
     std::vector<std::optional<SurfacePoint>> points(probes.begin(), probes.end());
-    const CsvTable table = estimate_table(tracer, probe_table(probes), points, options, !quiet);
+    const CsvTable table = estimate_table(tracer, probe_table(probes, classes), points, options, !quiet);
     if (g_interrupted.load()) throw Interrupted("interrupted while path tracing the reference");
     write_text_file(
         cached, [&](std::ostream& out) { out << to_csv(table); }, "reference");

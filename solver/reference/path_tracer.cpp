@@ -497,13 +497,16 @@ std::vector<SurfacePoint> PathTracer::probes(std::size_t n, std::uint64_t seed) 
     if (candidates.empty() || n == 0) return out;
     Random rng(seed, 0xB0B0u);
 
-    // Whether light can reach x at all: some of 16 cosine rays leave without meeting a back
-    // face first (a floor under a block, a ceiling behind a lamp are enclosed).
+    // Whether x lies open to the scene: at least 4 of 16 cosine rays leave without meeting a
+    // back face first. A floor under a block is enclosed; so is a ceiling deep behind a lamp
+    // hung just below it, which light reaches only through the gap and no viewer sees.
     auto reachable = [&](const glm::dvec3& x, const glm::dvec3& normal) {
+        int open = 0;
         for (int k = 0; k < 16; ++k) {
             const glm::dvec3 d = cosine_direction(normal, (k % 4 + rng.uniform()) / 4, (k / 4 + rng.uniform()) / 4);
             const auto hit = im.trace(x + im.epsilon * normal, d, 0.0, std::numeric_limits<float>::infinity());
-            if (hit.surface < 0 || glm::dot(im.surfaces[std::size_t(hit.surface)].normal, d) < 0) return true;
+            if (hit.surface < 0 || glm::dot(im.surfaces[std::size_t(hit.surface)].normal, d) < 0) ++open;
+            if (open >= 4) return true;
         }
         return false;
     };
@@ -533,6 +536,45 @@ std::vector<SurfacePoint> PathTracer::probes(std::size_t n, std::uint64_t seed) 
         if (p) out.push_back(*p);
     }
     return out;
+}
+
+double PathTracer::direct_light_share(const SurfacePoint& x, int samples, std::uint64_t seed) const {
+    const Impl& im = *m_impl;
+    Random rng(seed, 0xD1EC7u);
+    const int side = std::max(1, int(std::lround(std::sqrt(double(std::max(samples, 1))))));
+    const glm::dvec3 xo = x.position + im.epsilon * x.normal;
+    double total = 0.0, open = 0.0;
+    for (const int e : im.emitters) {
+        if (e == x.surface) continue;
+        const Impl::SurfaceData& ed = im.surfaces[std::size_t(e)];
+        for (int k = 0; k < side * side; ++k) {
+            const double u1 = (k % side + rng.uniform()) / side, u2 = (k / side + rng.uniform()) / side;
+            const glm::dvec3 y = im.sample_surface(m_scene, e, u1, u2);
+            const glm::dvec3 w = y - x.position;
+            const double r2 = glm::dot(w, w);
+            if (!(r2 > 0)) continue;
+            const double cos_x = glm::dot(x.normal, w), cos_y = -glm::dot(ed.normal, w);
+            if (cos_x <= 0 || cos_y <= 0) continue;
+            const double kernel = ed.emission.luminance() * ed.area * cos_x * cos_y / (r2 * r2);
+            total += kernel;
+            if (!im.occluded(xo, y + im.epsilon * ed.normal)) open += kernel;
+        }
+    }
+    return total > 0 ? open / total : -1.0;
+}
+
+double PathTracer::clearance(const SurfacePoint& x, int rays, std::uint64_t seed) const {
+    const Impl& im = *m_impl;
+    Random rng(seed, 0xC1EAu);
+    const int side = std::max(1, int(std::lround(std::sqrt(double(std::max(rays, 1))))));
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < side * side; ++k) {
+        const glm::dvec3 d =
+            cosine_direction(x.normal, (k % side + rng.uniform()) / side, (k / side + rng.uniform()) / side);
+        const auto hit = im.trace(x.position + im.epsilon * x.normal, d, 0.0, std::numeric_limits<float>::infinity());
+        if (hit.surface >= 0) nearest = std::min(nearest, hit.t);
+    }
+    return nearest;
 }
 
 }  // namespace bounce

@@ -96,9 +96,19 @@ public:
 
     /// n points spread over the non-emitting surfaces by area (stratified: the k-th lies in
     /// the k-th n-th of the total area), each at least 2% of its surface's size from the
-    /// surface's edges and on a part of the surface that some light can reach (points enclosed
-    /// by back faces, like a floor under a block, are drawn again).
+    /// surface's edges and on a part of the surface open to the scene (points enclosed by back
+    /// faces, like a floor under a block or a ceiling behind a lamp hung just below it, where
+    /// fewer than 4 of 16 cosine rays get out, are drawn again).
     std::vector<SurfacePoint> probes(std::size_t n, std::uint64_t seed) const;
+
+    /// The share of the emitters' direct-light kernel E cos(theta_x) cos(theta_y) / (pi r^2)
+    /// at x that arrives unblocked, from `samples` stratified area samples per emitter (in
+    /// luminance); -1 when no emitter faces x at all.
+    double direct_light_share(const SurfacePoint& x, int samples, std::uint64_t seed) const;
+
+    /// Distance from x to the nearest surface along `rays` cosine-distributed directions of its
+    /// front hemisphere (infinity when every ray leaves the scene).
+    double clearance(const SurfacePoint& x, int rays, std::uint64_t seed) const;
 
     /// Name shown for a surface: its object name, or "surface K".
     std::string surface_name(int surface) const;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "mesh/input_error.h"
@@ -45,9 +46,13 @@ TEST(CliReference, ProbesAreEstimatedToTheTargetAndRepeatExactly) {
         bounce_run("reference --probes 24 --target-error 0.02 --seed 5 --threads 1 -q -o " + b.string()).exit_code, 0);
     EXPECT_EQ(slurp(a), slurp(b));  // same seed, same numbers, on any thread count
     const CsvTable t = read_csv(a);
-    EXPECT_EQ(t.header, (std::vector<std::string>{"x", "y", "z", "nx", "ny", "nz", "B_r", "B_g", "B_b", "se_r", "se_g",
-                                                  "se_b", "paths", "surface", "status"}));
+    EXPECT_EQ(t.header, (std::vector<std::string>{"x", "y", "z", "nx", "ny", "nz", "class", "B_r", "B_g", "B_b", "se_r",
+                                                  "se_g", "se_b", "paths", "surface", "status"}));
     ASSERT_EQ(t.rows.size(), 24u);
+    // The Cornell box has penumbrae, contacts and points in shadow enough for a quarter each.
+    std::map<std::string, int> per_class;
+    for (const auto& row : t.rows) ++per_class[row[6]];
+    EXPECT_EQ(per_class, (std::map<std::string, int>{{"contact", 6}, {"lit", 6}, {"penumbra", 6}, {"unlit", 6}}));
     for (const auto& p : read_reference(a)) {
         EXPECT_EQ(p.status, "converged");
         // The luminance weights applied to the channels' errors bound the luminance's error from
