@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 namespace bounce {
@@ -70,6 +71,38 @@ void gathered_energy_account(const std::vector<Patch>& geometry, const std::vect
         power += res.radiosity[k] * g.area;
     }
     res.escaped_power = power - arriving;
+}
+
+void matrix_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& F, SolveResult& res) {
+    const std::size_t n = P.size();
+    res.irradiance.assign(n, Rgb());
+    res.unshot.assign(n, Rgb());
+    res.emitted_power = res.absorbed_power = res.escaped_power = res.unshot_power = Rgb();
+    std::vector<double> sums = F.row_sums();
+    for (std::size_t i = 0; i < n; ++i) {
+        res.emitted_power += P[i].emission * P[i].area;
+        // Power leaving i: B_i A_i; the part not landing on any patch escapes.
+        res.escaped_power += res.radiosity[i] * (P[i].area * (1.0 - sums[i]));
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 32), [&](const auto& range) {
+        for (std::size_t j = range.begin(); j != range.end(); ++j) {
+            // H_j A_j = sum_i B_i A_i F_ij (power arriving at j).
+            Rgb h;
+            for (std::size_t i = 0; i < n; ++i) h += res.radiosity[i] * (P[i].area * double(F(i, j)));
+            res.irradiance[j] = h * (1.0 / P[j].area);
+        }
+    });
+    for (std::size_t j = 0; j < n; ++j) {
+        const Rgb arriving = res.irradiance[j] * P[j].area;
+        res.absorbed_power += arriving - P[j].reflectance * arriving;
+    }
+    // Not yet in balance: B differs from E + rho H by the residual; that difference is
+    // the "unshot" power a gathering solver still owes.
+    for (std::size_t j = 0; j < n; ++j) {
+        const Rgb owed = P[j].emission + P[j].reflectance * res.irradiance[j] - res.radiosity[j];
+        res.unshot_power += owed * P[j].area;
+    }
+    res.unshot_fraction = res.emitted_power.sum() > 0 ? res.unshot_power.sum() / res.emitted_power.sum() : 0.0;
 }
 
 }  // namespace bounce

@@ -31,4 +31,10 @@ double contraction_bound(const std::vector<Patch>& patches, const std::vector<do
 void gathered_energy_account(const std::vector<Patch>& geometry, const std::vector<std::uint32_t>& leaves,
                              SolveResult& res);
 
+/// The energy account of a gathering solution on the full matrix, from res.radiosity: the
+/// irradiance H_j = sum_i B_i A_i F_ij / A_j, emitted, absorbed ((1 - rho) H A) and escaped
+/// power (B A times what row i leaves unsummed, 1 - sum_j F_ij), and as unshot power what
+/// B still differs from E + rho H by (the residual a gathering solver still owes).
+void matrix_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& F, SolveResult& res);
+
 }  // namespace bounce

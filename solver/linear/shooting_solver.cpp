@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "solver/linear/convergence.h"
@@ -102,6 +103,337 @@ private:
     Rgb m_max;
 };
 
+/// One run of progressive refinement: what ShootingSolver::solve() carries from shot to shot.
+class ShootingRun {
+public:
+    ShootingRun(const std::vector<Patch>& patches, const FormFactorEstimator& ff, const SolverOptions& options,
+                const FormFactorMatrix* matrix, const ElementHierarchy& hierarchy);
+    SolveResult run();
+
+private:
+    /// The unshot power still held and the shooter: the patch (or shooter of elements) holding
+    /// the most of it. Fills m_gathered per shooter.
+    std::size_t scan(Rgb& unshot_abs, Rgb& unshot_signed);
+    /// After a scan: whether to stop (the error estimate, a stall, the limits, a signal), with
+    /// res.status set.
+    bool stop();
+    /// The shooter's form-factor row F_ij over the receivers j (null with a matrix).
+    const float* row_of(std::size_t shooter);
+    /// Shoots the shooter's unshot radiosity (and, over-shooting, more) to every receiver.
+    void shoot(std::size_t shooter, const float* row, const Rgb& unshot_signed);
+
+    Rgb ambient_of(const Rgb& unshot_power) const;
+    void with_ambient(std::vector<Rgb>& out) const;
+    double seconds() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count() - m_log_seconds;
+    }
+    void log();
+    void snapshot();
+
+    const std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
+    const std::vector<Patch>& m_patches;
+    const FormFactorEstimator& m_ff;
+    const SolverOptions& m_options;
+    const FormFactorMatrix* m_matrix;
+    const ElementHierarchy& m_hierarchy;
+    const std::size_t m_n;  // patches (elements with a hierarchy)
+    SolveResult m_res;
+    double m_emitted = 0.0;  // channel sums
+    // The per-shot loops read only these two fields; packed, they stay in cache.
+    std::vector<double> m_patch_area;
+    std::vector<Rgb> m_patch_rho;
+    // Shooters and their elements: without a hierarchy every patch shoots for itself
+    // (parents: the identity).
+    std::vector<std::uint32_t> m_identity;
+    const std::vector<Patch>* m_shooters = nullptr;
+    const std::vector<std::uint32_t>* m_parent = nullptr;
+    std::size_t m_ns = 0;
+    std::vector<std::size_t> m_first_child;  // children of s: m_child[m_first_child[s] .. m_first_child[s+1])
+    std::vector<std::uint32_t> m_child;
+    std::vector<Rgb> m_gathered;  // per shooter: sum over its elements of unshot radiosity x area
+    // Rows of shooters are kept (float) while the cache budget allows: a bright patch shoots
+    // many times and its row does not change.
+    std::size_t m_cache_rows = 0;
+    std::vector<std::unique_ptr<float[]>> m_cache;
+    std::vector<float> m_scratch;
+    // Entries of a new row that reciprocity gives from cached rows: F_ij = F_ji A_j / A_i.
+    std::vector<std::uint8_t> m_known;
+    std::vector<std::size_t> m_cached;
+    bool m_borrow = false;
+    std::size_t m_max_shots = 0;
+    double m_shot_abs = 0.0;  // power shot, channel sums of absolute values (over-shooting shoots negative too)
+    double m_area = 0.0;
+    Rgb m_rho_area;
+    std::optional<ErrorEstimate> m_estimate;
+    std::vector<Rgb> m_display;
+    std::size_t m_next_log = 0;
+    double m_log_seconds = 0.0;  // time spent logging (residuals are O(N^2)), not counted as solving
+};
+
+ShootingRun::ShootingRun(const std::vector<Patch>& patches, const FormFactorEstimator& ff, const SolverOptions& options,
+                         const FormFactorMatrix* matrix, const ElementHierarchy& hierarchy)
+    : m_patches(patches), m_ff(ff), m_options(options), m_matrix(matrix), m_hierarchy(hierarchy), m_n(patches.size()) {
+    m_res.solver = "shooting";
+    m_res.form_factors = m_ff.name();
+    m_res.radiosity.resize(m_n);
+    m_res.irradiance.assign(m_n, Rgb());
+    m_res.unshot.resize(m_n);
+    for (std::size_t i = 0; i < m_n; ++i) {
+        m_res.radiosity[i] = m_patches[i].emission;
+        m_res.unshot[i] = m_patches[i].emission;
+        m_res.emitted_power += m_patches[i].emission * m_patches[i].area;
+    }
+    m_emitted = m_res.emitted_power.sum();
+    if (!(m_emitted > 0.0)) throw std::invalid_argument("the scene emits no light: no surface has emission > 0");
+    m_patch_area.resize(m_n);
+    m_patch_rho.resize(m_n);
+    for (std::size_t i = 0; i < m_n; ++i) {
+        m_patch_area[i] = m_patches[i].area;
+        m_patch_rho[i] = m_patches[i].reflectance;
+    }
+    m_shooters = m_hierarchy.shooters ? m_hierarchy.shooters : &m_patches;
+    m_ns = m_shooters->size();
+    if (!m_hierarchy.parents) {
+        m_identity.resize(m_n);
+        for (std::size_t i = 0; i < m_n; ++i) m_identity[i] = std::uint32_t(i);
+    }
+    m_parent = m_hierarchy.parents ? m_hierarchy.parents : &m_identity;
+    m_first_child.assign(m_ns + 1, 0);
+    for (const std::uint32_t p : *m_parent) ++m_first_child[p + 1];
+    for (std::size_t s = 0; s < m_ns; ++s) m_first_child[s + 1] += m_first_child[s];
+    m_child.resize(m_n);
+    {
+        std::vector<std::size_t> at(m_first_child.begin(), m_first_child.end() - 1);
+        for (std::size_t e = 0; e < m_n; ++e) m_child[at[(*m_parent)[e]]++] = std::uint32_t(e);
+    }
+    m_gathered.resize(m_ns);
+    const std::size_t row_bytes = m_n * sizeof(float);
+    m_cache_rows = row_bytes ? (m_options.cache_mb << 20) / row_bytes : 0;
+    m_cache.resize(m_ns);
+    m_scratch.resize(m_n);
+    m_known.assign(m_n, 0);
+    m_borrow = m_ff.reciprocal() && !m_hierarchy.shooters;
+    // No shot limit unless one is given: the solve stops on the error it leaves, or when the
+    // unshot power stops falling (stalled, below).
+    m_max_shots = m_options.max_iterations ? m_options.max_iterations : SIZE_MAX;
+    m_res.status = "max iterations";
+    for (std::size_t i = 0; i < m_n; ++i) {
+        m_rho_area += m_patches[i].reflectance * m_patches[i].area;
+        m_area += m_patches[i].area;
+    }
+    Rgb amplification;
+    for (int c = 0; c < 3; ++c) {
+        const double mean_rho = m_rho_area[c] / m_area;
+        amplification[c] = mean_rho < 1.0 ? mean_rho / (1.0 - mean_rho) : std::numeric_limits<double>::infinity();
+    }
+    m_estimate.emplace(m_patch_area, amplification);
+}
+
+// Ambient term: unshot power spread over all area, inter-reflected by the mean reflectance
+// (Cohen et al. 1988, eq. 5-6). For display only; B itself is untouched.
+Rgb ShootingRun::ambient_of(const Rgb& unshot_power) const {
+    Rgb ambient;
+    for (int c = 0; c < 3; ++c) {
+        const double mean_rho = m_rho_area[c] / m_area;
+        ambient[c] = mean_rho < 1.0 ? unshot_power[c] / m_area / (1.0 - mean_rho) : 0.0;
+    }
+    return ambient;
+}
+
+void ShootingRun::with_ambient(std::vector<Rgb>& out) const {
+    Rgb unshot_power;
+    for (std::size_t i = 0; i < m_n; ++i) unshot_power += m_res.unshot[i] * m_patches[i].area;
+    const Rgb ambient = ambient_of(unshot_power);
+    out.resize(m_n);
+    for (std::size_t i = 0; i < m_n; ++i) out[i] = m_res.radiosity[i] + m_patches[i].reflectance * ambient;
+}
+
+void ShootingRun::log() {
+    const auto log_start = std::chrono::steady_clock::now();
+    ConvergenceRecord r;
+    r.step = m_res.steps;
+    r.seconds = seconds();
+    r.unshot_fraction = m_res.unshot_fraction;
+    if (m_matrix) r.residual = relative_residual(m_patches, *m_matrix, m_res.radiosity);
+    if (m_options.reference) {
+        reference_errors(m_res.radiosity, *m_options.reference, r.rms_error, r.max_error);
+        double ignored;
+        with_ambient(m_display);
+        reference_errors(m_display, *m_options.reference, r.ambient_rms_error, ignored);
+    }
+    m_res.log.push_back(r);
+    // Log densely at first, then every ~5% more shots: the curves are drawn on log axes.
+    m_next_log = std::max(m_res.steps + 1, std::size_t(double(m_res.steps) * 1.05));
+    m_log_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - log_start).count();
+}
+
+// A snapshot is the state after res.steps shots, with its own energy account: the unshot power
+// and fraction of this moment, seconds so far, and B plus the ambient term.
+void ShootingRun::snapshot() {
+    SolveResult snap;
+    snap.solver = m_res.solver;
+    snap.form_factors = m_res.form_factors;
+    snap.status = "running";
+    snap.steps = m_res.steps;
+    snap.seconds = seconds();
+    snap.radiosity = m_res.radiosity;
+    snap.irradiance = m_res.irradiance;
+    snap.emitted_power = m_res.emitted_power;
+    snap.absorbed_power = m_res.absorbed_power;
+    snap.escaped_power = m_res.escaped_power;
+    double unshot_total = 0.0;
+    for (std::size_t i = 0; i < m_n; ++i) {
+        const Rgb& u = m_res.unshot[i];
+        snap.unshot_power += u * m_patches[i].area;
+        unshot_total += (std::abs(u.r) + std::abs(u.g) + std::abs(u.b)) * m_patches[i].area;
+    }
+    snap.unshot_fraction = unshot_total / m_emitted;
+    with_ambient(snap.display);
+    m_options.snapshot(snap);
+}
+
+// One scan: the unshot power still held (absolute: over-shooting leaves negative unshot
+// radiosity behind) and the patch holding the most of it.
+std::size_t ShootingRun::scan(Rgb& unshot_abs, Rgb& unshot_signed) {
+    double best = -1.0;
+    std::size_t shooter = 0;
+    auto consider = [&](std::size_t s) {
+        const Rgb& g = m_gathered[s];
+        const double p = std::abs(g.r) + std::abs(g.g) + std::abs(g.b);
+        if (p > best) {
+            best = p;
+            shooter = s;
+        }
+    };
+    if (m_hierarchy.parents) {
+        std::fill(m_gathered.begin(), m_gathered.end(), Rgb());
+        for (std::size_t i = 0; i < m_n; ++i) {
+            const Rgb& u = m_res.unshot[i];
+            unshot_abs += Rgb(std::abs(u.r), std::abs(u.g), std::abs(u.b)) * m_patch_area[i];
+            unshot_signed += u * m_patch_area[i];
+            m_gathered[(*m_parent)[i]] += u * m_patch_area[i];
+        }
+        for (std::size_t s = 0; s < m_ns; ++s) consider(s);
+    } else {
+        // Every patch shoots for itself: the same sums and choice in one serial pass.
+        for (std::size_t i = 0; i < m_n; ++i) {
+            const Rgb& u = m_res.unshot[i];
+            unshot_abs += Rgb(std::abs(u.r), std::abs(u.g), std::abs(u.b)) * m_patch_area[i];
+            m_gathered[i] = u * m_patch_area[i];
+            unshot_signed += m_gathered[i];
+            consider(i);
+        }
+    }
+    return shooter;
+}
+
+bool ShootingRun::stop() {
+    if (m_res.error_estimate < m_options.tolerance) {
+        m_res.converged = true;
+        m_res.status = "converged";
+        return true;
+    }
+    if (m_estimate->stalled(m_shot_abs)) {
+        m_res.status = "stalled";
+        return true;
+    }
+    if (m_res.steps >= m_max_shots) return true;
+    if (m_options.cancel && m_options.cancel->load()) {
+        m_res.status = "interrupted";
+        return true;
+    }
+    if (m_options.max_seconds > 0 && seconds() > m_options.max_seconds) {
+        m_res.status = "max seconds";
+        return true;
+    }
+    return false;
+}
+
+const float* ShootingRun::row_of(std::size_t shooter) {
+    if (m_matrix) return nullptr;
+    if (m_cache[shooter]) return m_cache[shooter].get();
+    const double ai = (*m_shooters)[shooter].area;
+    if (m_borrow) {
+        for (const std::size_t k : m_cached) {
+            m_scratch[k] = float(double(m_cache[k][shooter]) * (*m_shooters)[k].area / ai);
+            m_known[k] = 1;
+        }
+        m_ff.compute_row(shooter, m_scratch, m_known);
+        for (const std::size_t k : m_cached) m_known[k] = 0;
+    } else {
+        m_ff.compute_row(shooter, m_scratch);
+    }
+    if (m_cache_rows == 0) return m_scratch.data();
+    --m_cache_rows;
+    m_cached.push_back(shooter);
+    m_cache[shooter].reset(new float[m_n]);
+    std::copy(m_scratch.begin(), m_scratch.end(), m_cache[shooter].get());
+    return m_cache[shooter].get();
+}
+
+// F_ji for every receiver j: the fraction of j's view filled by the shooter, so that
+// dH_j = F_ji dB_i. With a matrix, its column i (shooting then solves exactly the system the
+// gathering solvers solve); otherwise F_ij A_i / A_j from row i.
+void ShootingRun::shoot(std::size_t shooter, const float* row, const Rgb& unshot_signed) {
+    const double ai = (*m_shooters)[shooter].area;
+    const Rgb mean_unshot = m_gathered[shooter] * (1.0 / ai);
+    Rgb shot = mean_unshot;
+    if (m_options.overshoot) {
+        // Over-shooting (Feda and Purgathofer 1991): also shoot the radiosity the patch will
+        // still receive, estimated as rho_i times the ambient term; what was shot in advance
+        // stays behind as negative unshot radiosity and is corrected later.
+        shot += (*m_shooters)[shooter].reflectance * ambient_of(unshot_signed);
+    }
+    // Each element gives up its own unshot radiosity plus what is over-shot: in all,
+    // exactly A_i * shot leaves, whatever the spread among the elements.
+    for (std::size_t k = m_first_child[shooter]; k < m_first_child[shooter + 1]; ++k)
+        m_res.unshot[m_child[k]] = mean_unshot - shot;
+    Rgb arrived;
+    for (std::size_t j = 0; j < m_n; ++j) {
+        if (row && row[j] == 0.0f) continue;
+        const double fji = row ? double(row[j]) * ai / m_patch_area[j] : double((*m_matrix)(j, shooter));
+        if (fji == 0.0) continue;
+        const Rgb dh = shot * fji;                  // irradiance increment
+        const Rgb arriving = dh * m_patch_area[j];  // power arriving at j
+        const Rgb reflected = m_patch_rho[j] * dh;  // radiosity increment
+        m_res.irradiance[j] += dh;
+        m_res.radiosity[j] += reflected;
+        m_res.unshot[j] += reflected;
+        m_res.absorbed_power += arriving - m_patch_rho[j] * arriving;
+        arrived += arriving;
+    }
+    m_res.escaped_power += shot * ai - arrived;
+    m_res.shot_power += shot * ai;
+    m_shot_abs += (std::abs(shot.r) + std::abs(shot.g) + std::abs(shot.b)) * ai;
+}
+
+SolveResult ShootingRun::run() {
+    const bool snapshots = m_options.snapshot && m_options.snapshot_every;
+    if (snapshots) snapshot();
+    while (true) {
+        Rgb unshot_signed, unshot_abs;
+        const std::size_t shooter = scan(unshot_abs, unshot_signed);
+        m_res.unshot_fraction = unshot_abs.sum() / m_emitted;
+        m_estimate->observe(unshot_abs, m_shot_abs, m_res.radiosity);
+        m_res.error_estimate = m_estimate->error(unshot_abs, m_options.tolerance);
+        if (m_res.steps >= m_next_log) log();
+        if (stop()) break;
+        shoot(shooter, row_of(shooter), unshot_signed);
+        ++m_res.steps;
+        if (snapshots && m_res.steps % m_options.snapshot_every == 0) snapshot();
+        if (m_options.progress) {
+            m_options.progress(
+                {m_res.steps, m_options.max_iterations, m_res.error_estimate, m_options.tolerance, seconds()});
+        }
+    }
+    if (m_res.log.empty() || m_res.log.back().step != m_res.steps) log();
+    m_res.residual = m_res.log.back().residual;
+    for (std::size_t i = 0; i < m_n; ++i) m_res.unshot_power += m_res.unshot[i] * m_patches[i].area;
+    if (m_options.ambient) with_ambient(m_res.display);
+    m_res.seconds = seconds();
+    return std::move(m_res);
+}
+
 }  // namespace
 
 ShootingSolver::ShootingSolver(const std::vector<Patch>& patches, const FormFactorEstimator& form_factors,
@@ -118,276 +450,6 @@ ShootingSolver::ShootingSolver(const std::vector<Patch>& patches, const FormFact
     }
 }
 
-SolveResult ShootingSolver::solve() {
-    const auto start = std::chrono::steady_clock::now();
-    const std::size_t n = m_patches.size();
-    SolveResult res;
-    res.solver = "shooting";
-    res.form_factors = m_ff.name();
-    res.radiosity.resize(n);
-    res.irradiance.assign(n, Rgb());
-    res.unshot.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        res.radiosity[i] = m_patches[i].emission;
-        res.unshot[i] = m_patches[i].emission;
-        res.emitted_power += m_patches[i].emission * m_patches[i].area;
-    }
-    const double emitted = res.emitted_power.sum();
-    if (!(emitted > 0.0)) throw std::invalid_argument("the scene emits no light: no surface has emission > 0");
-
-    // Without a hierarchy every patch shoots for itself (parents: the identity).
-    // The per-shot loops read only these two fields; packed, they stay in cache (a Patch is 216
-    // bytes, so walking the patches for them cost most of the loop's time).
-    std::vector<double> patch_area(n);
-    std::vector<Rgb> patch_rho(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        patch_area[i] = m_patches[i].area;
-        patch_rho[i] = m_patches[i].reflectance;
-    }
-
-    const std::vector<Patch>& shooters = m_hierarchy.shooters ? *m_hierarchy.shooters : m_patches;
-    const std::size_t ns = shooters.size();
-    std::vector<std::uint32_t> identity;
-    if (!m_hierarchy.parents) {
-        identity.resize(n);
-        for (std::size_t i = 0; i < n; ++i) identity[i] = std::uint32_t(i);
-    }
-    const std::vector<std::uint32_t>& parent = m_hierarchy.parents ? *m_hierarchy.parents : identity;
-    std::vector<std::size_t> first_child(ns + 1, 0);  // children of s: child[first_child[s] .. first_child[s+1])
-    for (const std::uint32_t p : parent) ++first_child[p + 1];
-    for (std::size_t s = 0; s < ns; ++s) first_child[s + 1] += first_child[s];
-    std::vector<std::uint32_t> child(n);
-    {
-        std::vector<std::size_t> at(first_child.begin(), first_child.end() - 1);
-        for (std::size_t e = 0; e < n; ++e) child[at[parent[e]]++] = std::uint32_t(e);
-    }
-    std::vector<Rgb> gathered(ns);  // per shooter: sum over its elements of unshot radiosity x area
-
-    // Rows of shooters are kept (float) while the cache budget allows: a bright patch shoots
-    // many times and its row does not change.
-    const std::size_t row_bytes = n * sizeof(float);
-    std::size_t cache_rows = row_bytes ? (m_options.cache_mb << 20) / row_bytes : 0;
-    std::vector<std::unique_ptr<float[]>> cache(ns);
-    std::vector<float> scratch(n);
-    // Entries of a new row that reciprocity gives from cached rows: F_ij = F_ji A_j / A_i.
-    std::vector<std::uint8_t> known(n, 0);
-    std::vector<std::size_t> cached;
-    const bool borrow = m_ff.reciprocal() && !m_hierarchy.shooters;
-
-    // No shot limit unless one is given: the solve stops on the error it leaves, or when the
-    // unshot power stops falling (stalled, below).
-    const std::size_t max_shots = m_options.max_iterations ? m_options.max_iterations : SIZE_MAX;
-    res.status = "max iterations";
-    double shot_abs = 0.0;  // power shot, channel sums of absolute values (over-shooting shoots negative too)
-    double area = 0.0;
-    Rgb rho_area;
-    for (std::size_t i = 0; i < n; ++i) {
-        rho_area += m_patches[i].reflectance * m_patches[i].area;
-        area += m_patches[i].area;
-    }
-    Rgb amplification;
-    for (int c = 0; c < 3; ++c) {
-        const double mean_rho = rho_area[c] / area;
-        amplification[c] = mean_rho < 1.0 ? mean_rho / (1.0 - mean_rho) : std::numeric_limits<double>::infinity();
-    }
-    ErrorEstimate estimate(patch_area, amplification);
-    // Ambient term: unshot power spread over all area, inter-reflected by the mean
-    // reflectance (Cohen et al. 1988, eq. 5-6). For display only; B itself is untouched.
-    auto ambient_of = [&](const Rgb& unshot_power) {
-        Rgb ambient;
-        for (int c = 0; c < 3; ++c) {
-            const double mean_rho = rho_area[c] / area;
-            ambient[c] = mean_rho < 1.0 ? unshot_power[c] / area / (1.0 - mean_rho) : 0.0;
-        }
-        return ambient;
-    };
-    auto with_ambient = [&](std::vector<Rgb>& out) {
-        Rgb unshot_power;
-        for (std::size_t i = 0; i < n; ++i) unshot_power += res.unshot[i] * m_patches[i].area;
-        const Rgb ambient = ambient_of(unshot_power);
-        out.resize(n);
-        for (std::size_t i = 0; i < n; ++i) out[i] = res.radiosity[i] + m_patches[i].reflectance * ambient;
-    };
-    std::vector<Rgb> display;
-    std::size_t next_log = 0;
-    double log_seconds = 0.0;  // time spent logging (residuals are O(N^2)), not counted as solving
-    auto seconds = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - log_seconds;
-    };
-    auto log = [&] {
-        const auto log_start = std::chrono::steady_clock::now();
-        ConvergenceRecord r;
-        r.step = res.steps;
-        r.seconds = seconds();
-        r.unshot_fraction = res.unshot_fraction;
-        if (m_matrix) r.residual = relative_residual(m_patches, *m_matrix, res.radiosity);
-        if (m_options.reference) {
-            reference_errors(res.radiosity, *m_options.reference, r.rms_error, r.max_error);
-            double ignored;
-            with_ambient(display);
-            reference_errors(display, *m_options.reference, r.ambient_rms_error, ignored);
-        }
-        res.log.push_back(r);
-        // Log densely at first, then every ~5% more shots: the curves are drawn on log axes.
-        next_log = std::max(res.steps + 1, std::size_t(double(res.steps) * 1.05));
-        log_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - log_start).count();
-    };
-    // A snapshot is the state after res.steps shots, with its own energy account: the unshot
-    // power and fraction of this moment, seconds so far, and B plus the ambient term.
-    auto snapshot = [&] {
-        SolveResult snap;
-        snap.solver = res.solver;
-        snap.form_factors = res.form_factors;
-        snap.status = "running";
-        snap.steps = res.steps;
-        snap.seconds = seconds();
-        snap.radiosity = res.radiosity;
-        snap.irradiance = res.irradiance;
-        snap.emitted_power = res.emitted_power;
-        snap.absorbed_power = res.absorbed_power;
-        snap.escaped_power = res.escaped_power;
-        double unshot_total = 0.0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const Rgb& u = res.unshot[i];
-            snap.unshot_power += u * m_patches[i].area;
-            unshot_total += (std::abs(u.r) + std::abs(u.g) + std::abs(u.b)) * m_patches[i].area;
-        }
-        snap.unshot_fraction = unshot_total / emitted;
-        with_ambient(snap.display);
-        m_options.snapshot(snap);
-    };
-    const bool snapshots = m_options.snapshot && m_options.snapshot_every;
-    if (snapshots) snapshot();
-    while (true) {
-        // One scan: the unshot power still held (absolute: over-shooting leaves negative
-        // unshot radiosity behind) and the patch holding the most of it.
-        double unshot_total = 0.0, best = -1.0;
-        std::size_t shooter = 0;
-        Rgb unshot_signed, unshot_abs;
-        auto consider = [&](std::size_t s) {
-            const Rgb& g = gathered[s];
-            const double p = std::abs(g.r) + std::abs(g.g) + std::abs(g.b);
-            if (p > best) {
-                best = p;
-                shooter = s;
-            }
-        };
-        if (m_hierarchy.parents) {
-            std::fill(gathered.begin(), gathered.end(), Rgb());
-            for (std::size_t i = 0; i < n; ++i) {
-                const Rgb& u = res.unshot[i];
-                unshot_abs += Rgb(std::abs(u.r), std::abs(u.g), std::abs(u.b)) * patch_area[i];
-                unshot_signed += u * patch_area[i];
-                gathered[parent[i]] += u * patch_area[i];
-            }
-            for (std::size_t s = 0; s < ns; ++s) consider(s);
-        } else {
-            // Every patch shoots for itself: the same sums and choice in one pass (about a
-            // tenth of a default Cornell solve's CPU was these scans, all of it serial).
-            for (std::size_t i = 0; i < n; ++i) {
-                const Rgb& u = res.unshot[i];
-                unshot_abs += Rgb(std::abs(u.r), std::abs(u.g), std::abs(u.b)) * patch_area[i];
-                gathered[i] = u * patch_area[i];
-                unshot_signed += gathered[i];
-                consider(i);
-            }
-        }
-        unshot_total = unshot_abs.sum();
-        res.unshot_fraction = unshot_total / emitted;
-        estimate.observe(unshot_abs, shot_abs, res.radiosity);
-        res.error_estimate = estimate.error(unshot_abs, m_options.tolerance);
-        if (res.steps >= next_log) log();
-        if (res.error_estimate < m_options.tolerance) {
-            res.converged = true;
-            res.status = "converged";
-            break;
-        }
-        if (estimate.stalled(shot_abs)) {
-            res.status = "stalled";
-            break;
-        }
-        if (res.steps >= max_shots) break;
-        if (m_options.cancel && m_options.cancel->load()) {
-            res.status = "interrupted";
-            break;
-        }
-        if (m_options.max_seconds > 0 && seconds() > m_options.max_seconds) {
-            res.status = "max seconds";
-            break;
-        }
-
-        // F_ji for every receiver j: the fraction of j's view filled by the shooter, so that
-        // dH_j = F_ji dB_i. With a matrix, its column i (shooting then solves exactly the
-        // system the gathering solvers solve); otherwise F_ij A_i / A_j from row i.
-        const float* row = nullptr;
-        const double ai = shooters[shooter].area;
-        if (!m_matrix) {
-            if (cache[shooter]) {
-                row = cache[shooter].get();
-            } else {
-                if (borrow) {
-                    for (const std::size_t k : cached) {
-                        scratch[k] = float(double(cache[k][shooter]) * shooters[k].area / ai);
-                        known[k] = 1;
-                    }
-                    m_ff.compute_row(shooter, scratch, known);
-                    for (const std::size_t k : cached) known[k] = 0;
-                } else {
-                    m_ff.compute_row(shooter, scratch);
-                }
-                if (cache_rows > 0) {
-                    --cache_rows;
-                    cached.push_back(shooter);
-                    cache[shooter].reset(new float[n]);
-                    std::copy(scratch.begin(), scratch.end(), cache[shooter].get());
-                    row = cache[shooter].get();
-                } else {
-                    row = scratch.data();
-                }
-            }
-        }
-        const Rgb mean_unshot = gathered[shooter] * (1.0 / ai);
-        Rgb shot = mean_unshot;
-        if (m_options.overshoot) {
-            // Over-shooting (Feda and Purgathofer 1991): also shoot the radiosity the patch will
-            // still receive, estimated as rho_i times the ambient term; what was shot in advance
-            // stays behind as negative unshot radiosity and is corrected later.
-            shot += shooters[shooter].reflectance * ambient_of(unshot_signed);
-        }
-        // Each element gives up its own unshot radiosity plus what is over-shot: in all,
-        // exactly A_i * shot leaves, whatever the spread among the elements.
-        for (std::size_t k = first_child[shooter]; k < first_child[shooter + 1]; ++k)
-            res.unshot[child[k]] = mean_unshot - shot;
-        Rgb arrived;
-        for (std::size_t j = 0; j < n; ++j) {
-            if (row && row[j] == 0.0f) continue;
-            const double fji = row ? double(row[j]) * ai / patch_area[j] : double((*m_matrix)(j, shooter));
-            if (fji == 0.0) continue;
-            const Rgb dh = shot * fji;                // irradiance increment
-            const Rgb arriving = dh * patch_area[j];  // power arriving at j
-            const Rgb reflected = patch_rho[j] * dh;  // radiosity increment
-            res.irradiance[j] += dh;
-            res.radiosity[j] += reflected;
-            res.unshot[j] += reflected;
-            res.absorbed_power += arriving - patch_rho[j] * arriving;
-            arrived += arriving;
-        }
-        res.escaped_power += shot * ai - arrived;
-        res.shot_power += shot * ai;
-        shot_abs += (std::abs(shot.r) + std::abs(shot.g) + std::abs(shot.b)) * ai;
-        ++res.steps;
-        if (snapshots && res.steps % m_options.snapshot_every == 0) snapshot();
-        if (m_options.progress) {
-            m_options.progress(
-                {res.steps, m_options.max_iterations, res.error_estimate, m_options.tolerance, seconds()});
-        }
-    }
-    if (res.log.empty() || res.log.back().step != res.steps) log();
-    res.residual = res.log.back().residual;
-    for (std::size_t i = 0; i < n; ++i) res.unshot_power += res.unshot[i] * m_patches[i].area;
-    if (m_options.ambient) with_ambient(res.display);
-    res.seconds = seconds();
-    return res;
-}
+SolveResult ShootingSolver::solve() { return ShootingRun(m_patches, m_ff, m_options, m_matrix, m_hierarchy).run(); }
 
 }  // namespace bounce

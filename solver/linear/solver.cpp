@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "solver/linear/solver.h"
 
+#include "solver/linear/direct_solver.h"
 #include "solver/linear/gathering_solver.h"
 #include "solver/linear/shooting_solver.h"
 
