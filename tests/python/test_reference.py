@@ -39,6 +39,9 @@ def test_reference_equals_command_line(tmp_path, run_cli, scene):
     np.testing.assert_allclose(py["radiosity"], cli_probes["radiosity"], rtol=1e-8)
     np.testing.assert_array_equal(py["paths"], cli_probes["paths"])
     assert py["status"] == cli_probes["status"]
+    with open(probes_csv) as f:
+        assert py["class"] == [r["class"] for r in csv.DictReader(f)]
+    assert sorted(set(py["class"])) == ["contact", "lit", "penumbra", "unlit"]
 
     # Given points: the same numbers through --points, one of them off every surface.
     points = np.vstack([cli_probes["position"], [[1e4, 1e4, 1e4]]])
