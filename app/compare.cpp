@@ -295,7 +295,12 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         const double fine = vs_fine(s.tree, s.leaves, s.result.radiosity);
         // One solve, a row per display tolerance: each its solve's time plus its own gather's,
         // through the links; the elements tile the coarse patches, whose visibility is theirs.
-        for (const double display : c.display_tolerances) {
+        // "adaptive" rows gather as solve --adaptive does; "hierarchical" rows at each tolerance.
+        const std::vector<double> displays =
+            std::string(family) == "adaptive"
+                ? std::vector<double>{c.gather == "vertices" ? adaptive_display_tolerance(std::nullopt) : 0.0}
+                : c.display_tolerances;
+        for (const double display : displays) {
             if (g_interrupted.load()) break;
             std::ostringstream setting;
             setting << "link epsilon " << eps;

@@ -157,9 +157,14 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
         // to trace against (hierarchical_point_values.h).
         const std::size_t solved = hierarchy->leaves.size();
         const double before = res.seconds;
-        gather_point_values(*hierarchy, *elements, *visibility, res, s.gather, s.display, o.quiet);
+        DisplayRefinement display = s.display;
+        if (s.adaptive && s.gather == "vertices")
+            display.tolerance = adaptive_display_tolerance(s.display_given && s.display_given->count() > 0
+                                                               ? std::optional<double>(s.display.tolerance)
+                                                               : std::nullopt);
+        gather_point_values(*hierarchy, *elements, *visibility, res, s.gather, display, o.quiet);
         gather_seconds = res.seconds - before;
-        settings << " display_tolerance=" << s.display.tolerance << " display_cells=" << elements->size();
+        settings << " display_tolerance=" << display.tolerance << " display_cells=" << elements->size();
         res.seconds = seconds_since(start);
         summary << seconds_text(res.seconds, gather_seconds, true) << "\n";
         if (elements->size() != solved)
@@ -391,10 +396,8 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                 "--display-tolerance", solve->display.tolerance,
                 "hierarchical: split an element for display where linear interpolation between its vertices, as "
                 "ParaView shows the point data, would miss its centre value by more than this share, and "
-                "gather the new vertices (0.0025 suits the Cornell box: a quarter less error at the probes "
-                "for a quarter more time); 0: off")
-            ->check(in_range(0.0, 1.0))
-            ->capture_default_str();
+                "gather the new vertices; 0: off (default: 0.0025 with --adaptive, else 0)")
+            ->check(in_range(0.0, 1.0));
     solve_cmd
         ->add_option("--refine-rounds", solve->hierarchical.refine_rounds,
                      "hierarchical: refine the links and solve this many times, each round refining with the last "

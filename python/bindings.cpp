@@ -41,6 +41,7 @@
 #include "solver/gather/point_values.h"
 #include "solver/linear/solver.h"
 #include "solver/reference/path_tracer.h"
+#include "solver/reference/probe_classes.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
 #include "viewer/pending_output.h"
@@ -390,7 +391,9 @@ std::shared_ptr<SolutionData> solve(
                              "the hierarchical solver refining on power; set power_epsilon");
     if (!elements && display_tolerance)
         throw InputError("display_tolerance applies to the hierarchical solver (and adaptive)");
-    const DisplayRefinement display{display_tolerance.value_or(0.0)};
+    // As the command line: adaptive gathers with kSuggestedDisplayTolerance unless one is given.
+    const DisplayRefinement display{adaptive && gather == "vertices" ? adaptive_display_tolerance(display_tolerance)
+                                                                     : display_tolerance.value_or(0.0)};
     check_range("display_tolerance", display.tolerance, 0.0, 1.0);
     if (display.tolerance > 0 && gather != "vertices")
         throw InputError(
@@ -580,15 +583,18 @@ struct ReferenceRun {
     std::vector<SurfacePoint> points;
     std::vector<std::uint8_t> found;  // 0: no surface near the given point (skip_missing)
     std::vector<RadiosityEstimate> estimates;
+    std::vector<ProbeClass> classes;  // probes drawn by class: each one's
 };
 
 using Points = std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>;
 
 py::dict reference(const std::shared_ptr<SceneData>& s, const Points& points, const Points& normals,
                    std::int64_t probes, double target_error, double max_paths, std::uint64_t seed, bool skip_missing,
-                   const py::object& progress) {
+                   const std::string& probe_mix, const py::object& progress) {
     if (points.has_value() == (probes > 0))
         throw InputError("reference: give exactly one of points (with normals) or probes");
+    if (probe_mix != "classes" && probe_mix != "area")
+        throw InputError("reference: probe_mix is 'classes' or 'area' (got '" + probe_mix + "')");
     check_range("target_error", target_error, 1e-6, 1.0);
     check_range("max_paths", max_paths, 64, double(std::uint64_t(1) << 40));
     std::vector<glm::dvec3> given_p, given_n;
@@ -628,7 +634,8 @@ py::dict reference(const std::shared_ptr<SceneData>& s, const Points& points, co
                     run->points.push_back(x ? *x : SurfacePoint{given_p[k], given_n[k], -1});
                 }
             } else {
-                run->points = tracer.probes(std::size_t(probes), seed);
+                run->points = probe_mix == "area" ? tracer.probes(std::size_t(probes), seed)
+                                                  : probes_by_class(tracer, std::size_t(probes), seed, run->classes);
                 if (run->points.empty())
                     throw InputError(s->spec + ": no surface to place probes on (every surface emits)");
                 run->found.assign(run->points.size(), 1);
@@ -666,6 +673,11 @@ py::dict reference(const std::shared_ptr<SceneData>& s, const Points& points, co
     static_assert(sizeof(std::uint64_t) == sizeof(e->paths));
     d["paths"] = field_view<std::uint64_t>(e ? &e->paths : nullptr, m, sizeof(RadiosityEstimate), 0, owner);
     d["status"] = status;
+    if (!r->classes.empty()) {
+        std::vector<std::string> classes;
+        for (const ProbeClass c : r->classes) classes.push_back(to_string(c));
+        d["class"] = classes;
+    }
     return d;
 }
 
@@ -952,7 +964,7 @@ PYBIND11_MODULE(_bounce, m) {
           "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive, the hierarchical "
           "solver with power_epsilon 1e-5 unless given; target_error and max_patches are retired and refused; "
           "display_tolerance, hierarchical only, above 0 splits elements for display where linear interpolation of "
-          "the point data would miss the gathered light: 0.0025 suits the Cornell box; 0 (off) unless given). "
+          "the point data would miss the gathered light: 0.0025 with adaptive, else 0 (off), unless given). "
           "Unset, tolerance is 1e-3 (shooting: the largest relative error of a patch that the light still unshot "
           "would add, as estimated from the convergence; hierarchical: 1e-6, the largest change of an element per "
           "iteration relative to the mean), max_iterations none for shooting (it stops as stalled when the unshot "
@@ -965,11 +977,13 @@ PYBIND11_MODULE(_bounce, m) {
     m.def("reference", &reference, py::arg("scene"), py::arg("points") = py::none(), py::arg("normals") = py::none(),
           py::kw_only(), py::arg("probes") = 0, py::arg("target_error") = 0.005,
           py::arg("max_paths") = double(std::uint64_t(1) << 20), py::arg("seed") = 1, py::arg("skip_missing") = false,
-          py::arg("progress") = py::none(),
-          "The path-traced reference, as `bounce reference` computes it: at `probes` points spread by area, or "
+          py::arg("probe_mix") = "classes", py::arg("progress") = py::none(),
+          "The path-traced reference, as `bounce reference` computes it: at `probes` points (probe_mix 'classes': "
+          "a quarter each lit, penumbra, unlit and contact; 'area': spread by area), or "
           "at the given points (M x 3, with their normals M x 3, snapped to the surface they face). A dict of "
-          "position, normal, surface, radiosity and standard_error (M x 3), paths, and status ('converged', "
-          "'budget', 'interrupted' or, with skip_missing, 'missing' with NaN values).");
+          "position, normal, surface, radiosity and standard_error (M x 3), paths, status ('converged', "
+          "'budget', 'interrupted' or, with skip_missing, 'missing' with NaN values) and, for probes by class, "
+          "class.");
     m.def("solver_names", &solver_names);
     m.def("form_factor_methods", &form_factor_methods);
     m.def("gather_modes", &gather_modes);

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "mesh/patch_mesh.h"
@@ -62,12 +63,19 @@ struct DisplayRefinement {
     double tolerance = 0.0;
 };
 
-/// The display tolerance `--display-tolerance` suggests: a quarter of a percent of the leaf's
-/// value is below what a colour map shows, and finer tolerances split most leaves of a
-/// cluttered scene for no visible gain. Not the default, since splitting costs time and memory
-/// in every scene while it pays only where the power epsilon is already fine (the study is in
-/// docs/measurements/2026-12-03-defaults.md).
+/// The display tolerance `--adaptive` gathers with unless one is given (`--display-tolerance`,
+/// 0 turns it off): a quarter of a percent of the leaf's value is below what a colour map
+/// shows, and finer tolerances split most leaves of a cluttered scene for no visible gain.
+/// Where light bends across a penumbra, linear interpolation between the vertices of an
+/// element left coarse by the power bound misses it; the split vertices follow it. The plain
+/// hierarchical solver keeps it off (0) by default.
 inline constexpr double kSuggestedDisplayTolerance = 0.0025;
+
+/// The display tolerance an adaptive solve gathers with: `given` when set (0: off), else
+/// kSuggestedDisplayTolerance.
+inline double adaptive_display_tolerance(std::optional<double> given) {
+    return given ? *given : kSuggestedDisplayTolerance;
+}
 
 /// gather_hierarchical_point_values, then, in mode "vertices" with a positive tolerance,
 /// display refinement: splits leaves of `solution` (its tree, leaves, node radiosity and

@@ -612,8 +612,8 @@ TEST(Cli, CompareMeshesWritesRowsForEveryMethodAgainstOneReference) {
     // Header, reference, 3 uniform levels, 1 patch and 1 discontinuity mesh, 5 receiver-only
     // targets, 3 link epsilons each for adaptive and hierarchical.
     EXPECT_EQ(lines(csv), 1 + 1 + 3 + 1 + 1 + 5 + 3 + 3);
-    // The adaptive rows are `solve --adaptive`'s: hierarchical with its power epsilon.
-    EXPECT_NE(csv.find("\nadaptive,link epsilon 0.4 power epsilon 1e-05,"), std::string::npos) << csv;
+    // The adaptive rows are `solve --adaptive`'s: hierarchical with its power epsilon, display-refined.
+    EXPECT_NE(csv.find("\nadaptive,link epsilon 0.4 power epsilon 1e-05 display 0.0025,"), std::string::npos) << csv;
     EXPECT_TRUE(std::filesystem::exists(dir / "meshes.png"));
     // Uniform refinement gets closer to the reference at every level.
     double last = 1e9;
