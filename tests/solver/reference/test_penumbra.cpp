@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: MIT
+// A blocker's penumbra on a floor, where the exact answer is known: a unit square lamp over a
+// plane, a black square half-way between (0.6 on a side), nothing else that reflects. At a
+// point x = (u, 0.5, 0) of the plane the blocker's shadow, scaled by 2 about the point onto
+// the lamp's plane, covers the lamp but for the strip [1.6 - u, 1] x [0, 1], so
+// B(x) = rho E F(dA_x -> strip) (Lambert's formula for the strip) across the penumbra
+// 0.6 < u < 1.6. The default run and --adaptive must both follow it in their point data.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <vector>
+
+#include "mesh/patch_mesh.h"
+#include "mesh/validation_scenes.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/form_factors/point_polygon_form_factor.h"
+#include "solver/gather/hierarchical_point_values.h"
+#include "solver/gather/point_values.h"
+#include "solver/linear/shooting_solver.h"
+#include "solver/reference/probe_score.h"
+#include "solver/refinement/hierarchical_radiosity.h"
+#include "solver/visibility/visibility.h"
+
+using namespace bounce;
+using V = glm::dvec3;
+
+namespace {
+
+Scene blocked_lamp() {
+    Scene s = lamp_over_plane();  // plane [-2,3]^2 (rho 0.5), lamp [0,1]^2 at z = 1, E = (3, 2, 1)
+    s.surfaces.push_back(
+        {{{0.2, 0.2, 0.5}, {0.2, 0.8, 0.5}, {0.8, 0.8, 0.5}, {0.8, 0.2, 0.5}}, 2, "blocker", {"test", 0}});
+    return s;
+}
+
+/// Exact radiosity at probes across the penumbra, where at least a tenth of the lamp shows
+/// (nearer the umbra the value falls to nothing and any relative error grows without bound).
+std::vector<ReferencePoint> exact_penumbra() {
+    std::vector<ReferencePoint> out;
+    for (double u = 0.72; u < 1.6; u += 0.08) {
+        const V x(u, 0.5, 0.0), n(0, 0, 1);
+        const double lo = std::max(0.0, 1.6 - u);
+        const std::vector<V> strip = {{lo, 0, 1}, {1, 0, 1}, {1, 1, 1}, {lo, 1, 1}};
+        const double f = point_polygon_form_factor(x, n, strip);
+        ReferencePoint p;
+        p.position = x;
+        p.normal = n;
+        p.radiosity = Rgb(3, 2, 1) * (0.5 * f);
+        p.standard_error = Rgb();
+        p.paths = 1;
+        p.surface = "plane";
+        p.status = "converged";
+        p.has_value = true;
+        out.push_back(p);
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST(Penumbra, TheDefaultRunsPointDataFollowsABlockersPenumbra) {
+    const Scene scene = blocked_lamp();
+    const PatchMesh mesh(scene, MeshingOptions{});
+    const auto visibility = make_visibility("embree", mesh.patches());
+    const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
+    SolveResult res = ShootingSolver(mesh.patches(), *ff, SolverOptions{}).solve();
+    ASSERT_EQ(gather_point_values(mesh, *visibility, res, "vertices"), GatherOutcome::gathered);
+    const auto reference = exact_penumbra();
+    const ProbeScore s = score_at_probes(mesh, res.radiosity, reference, res.point_radiosity);
+    std::cout << mesh.size() << " patches: point data " << s.rms_smooth << " RMS, " << s.max_smooth
+              << " worst; patch values " << s.rms_patch << " RMS, " << s.max_patch << " worst\n";
+    ASSERT_EQ(s.scored, reference.size());
+    EXPECT_LE(s.max_smooth, 0.03);
+}
+
+TEST(Penumbra, AdaptivePointDataFollowsABlockersPenumbra) {
+    const Scene scene = blocked_lamp();
+    MeshingOptions coarse;
+    coarse.target_patches = 30;  // what `bounce solve --adaptive` starts from
+    const PatchMesh mesh(scene, coarse);
+    const auto visibility = make_visibility("embree", mesh.patches());
+    HierarchicalOptions h;
+    h.power_epsilon = adaptive_power_epsilon(0.0);
+    HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
+    PatchMesh cells = sol.tree.conforming_mesh(sol.leaves);
+    SolveResult res = sol.result;
+    ASSERT_EQ(gather_hierarchical_point_values(sol, cells, *visibility, res, "vertices",
+                                               DisplayRefinement{adaptive_display_tolerance(std::nullopt)}),
+              GatherOutcome::gathered);
+    const auto reference = exact_penumbra();
+    const ProbeScore s = score_at_probes(cells, res.radiosity, reference, res.point_radiosity);
+    std::cout << cells.size() << " cells: point data " << s.rms_smooth << " RMS, " << s.max_smooth
+              << " worst; patch values " << s.rms_patch << " RMS, " << s.max_patch << " worst\n";
+    ASSERT_EQ(s.scored, reference.size());
+    EXPECT_LE(s.max_smooth, 0.03);
+}
