@@ -66,4 +66,18 @@ SurfaceTriangulation triangulate_surface(const Scene& scene, int surface,
                                          double aspect_bound = 0.125,
                                          const std::vector<glm::dvec3>& outline_points = {});
 
+/// The surfaces discontinuity meshing triangulates, indexed like Scene::surfaces: those that
+/// receive traced boundaries (trace_discontinuities) and, so that no T-vertex appears where they
+/// meet, the (nearly, within about a degree) coplanar non-emitting surfaces sharing an edge with
+/// one, transitively; each triangulated (triangulate_surface) with its seam neighbours' points on
+/// the shared edges. A surface with no triangles (not wanted, degenerate, or over its budget
+/// along with its seam neighbours) is meshed by its grid.
+struct DiscontinuitySurfaces {
+    std::vector<SurfaceTriangulation> per_surface;
+    std::vector<std::string> warnings;  // the tracing's, and one line for surfaces given up
+};
+
+DiscontinuitySurfaces triangulate_discontinuity_surfaces(const Scene& scene, std::size_t max_discontinuities,
+                                                         double max_area, double aspect_bound);
+
 }  // namespace bounce

@@ -6,12 +6,12 @@
 #include <sstream>
 #include <unordered_map>
 
-#include <OpenMesh/Core/System/omstream.hh>
 #include <glm/geometric.hpp>
 
 #include "mesh/contact_cuts.h"
 #include "mesh/discontinuity_mesh.h"
 #include "mesh/input_error.h"
+#include "mesh/open_mesh_faces.h"
 #include "mesh/polygon.h"
 
 namespace bounce {
@@ -19,162 +19,6 @@ namespace {
 
 using V = glm::dvec3;
 
-/// OpenMesh prints its refusals on its own error stream; the meshers count them and warn once.
-struct QuietOpenMesh {
-    bool was = omerr().is_enabled();
-    QuietOpenMesh() { omerr().disable(); }
-    ~QuietOpenMesh() {
-        if (was) omerr().enable();
-    }
-    QuietOpenMesh(const QuietOpenMesh&) = delete;
-    QuietOpenMesh& operator=(const QuietOpenMesh&) = delete;
-};
-
-/// Faces over shared points, made manifold before OpenMesh sees them: a point where the faces
-/// around it do not form one fan (elements of contact-cut pieces meeting at a corner, or an
-/// edge that three faces share or two run the same way) gets a copy per fan. OpenMesh refuses
-/// some such faces and aborts on others (an assertion in its patch re-linking), so they are
-/// never offered. A fan is the faces around the point joined through edges that exactly two
-/// faces share in opposite directions (union-find over the faces' corners).
-struct ManifoldFaces {
-    std::vector<std::vector<std::uint32_t>> faces;  // into the point list below
-    std::vector<std::uint32_t> point_of;            // for each point: the input point it copies
-    std::size_t split_points = 0;                   // input points given more than one copy
-};
-
-ManifoldFaces manifold_faces(std::size_t point_count, const std::vector<std::vector<std::uint32_t>>& faces) {
-    std::vector<std::size_t> first(faces.size() + 1, 0);  // corner index of face f's corner 0
-    for (std::size_t f = 0; f < faces.size(); ++f) first[f + 1] = first[f] + faces[f].size();
-    std::vector<std::size_t> root(first.back());
-    for (std::size_t c = 0; c < root.size(); ++c) root[c] = c;
-    auto find = [&](std::size_t c) {
-        while (root[c] != c) c = root[c] = root[root[c]];
-        return c;
-    };
-    auto join = [&](std::size_t a, std::size_t b) { root[find(a)] = find(b); };
-    struct Side {
-        std::uint64_t key;  // the edge's points, smaller first
-        std::size_t corner;  // the corner the side leaves from
-        bool forward;       // runs from the smaller point to the larger
-    };
-    // A face that names a point twice (corners of a sliver welded together) takes copies of
-    // all its points: it joins nothing.
-    std::vector<bool> alone(faces.size(), false);
-    for (std::size_t f = 0; f < faces.size(); ++f) {
-        std::vector<std::uint32_t> ids = faces[f];
-        std::sort(ids.begin(), ids.end());
-        alone[f] = std::adjacent_find(ids.begin(), ids.end()) != ids.end();
-    }
-    std::vector<Side> sides;
-    sides.reserve(root.size());
-    for (std::size_t f = 0; f < faces.size(); ++f)
-        for (std::size_t k = 0; k < faces[f].size() && !alone[f]; ++k) {
-            const std::uint32_t u = faces[f][k], w = faces[f][(k + 1) % faces[f].size()];
-            sides.push_back({std::uint64_t(std::min(u, w)) << 32 | std::max(u, w), first[f] + k, u < w});
-        }
-    std::sort(sides.begin(), sides.end(), [](const Side& a, const Side& b) {
-        return a.key != b.key ? a.key < b.key : a.corner < b.corner;
-    });
-    auto next_corner = [&](std::size_t c) {  // the corner after c in its face
-        const std::size_t f = std::size_t(std::upper_bound(first.begin(), first.end(), c) - first.begin()) - 1;
-        return c + 1 < first[f + 1] ? c + 1 : first[f];
-    };
-    for (std::size_t i = 0; i < sides.size();) {
-        std::size_t j = i;
-        while (j < sides.size() && sides[j].key == sides[i].key) ++j;
-        if (j - i == 2 && sides[i].forward != sides[i + 1].forward) {
-            // Side c: p -> q in one face, side d: q -> p in the other; join their corners at p and at q.
-            const std::size_t c = sides[i].corner, d = sides[i + 1].corner;
-            join(c, next_corner(d));
-            join(next_corner(c), d);
-        }
-        i = j;
-    }
-    ManifoldFaces out;
-    out.point_of.resize(point_count);
-    for (std::size_t v = 0; v < point_count; ++v) out.point_of[v] = std::uint32_t(v);
-    std::vector<std::size_t> owner(point_count, SIZE_MAX);  // the fan root that keeps the point itself
-    std::unordered_map<std::size_t, std::uint32_t> copy_of;  // fan root -> its copy of the point
-    out.faces.resize(faces.size());
-    std::vector<bool> counted(point_count, false);
-    for (std::size_t f = 0; f < faces.size(); ++f)
-        for (std::size_t k = 0; k < faces[f].size(); ++k) {
-            const std::uint32_t v = faces[f][k];
-            const std::size_t r = find(first[f] + k);
-            std::uint32_t id = v;
-            if (alone[f]) {
-                id = std::uint32_t(out.point_of.size());
-                out.point_of.push_back(v);
-                if (!counted[v]) ++out.split_points;
-                counted[v] = true;
-            } else if (owner[v] == SIZE_MAX) {
-                owner[v] = r;
-            } else if (owner[v] != r) {
-                const auto [it, made] = copy_of.try_emplace(r, std::uint32_t(out.point_of.size()));
-                if (made) {
-                    out.point_of.push_back(v);
-                    if (!counted[v]) ++out.split_points;
-                    counted[v] = true;
-                }
-                id = it->second;
-            }
-            out.faces[f].push_back(id);
-        }
-    return out;
-}
-
-/// Adds a face; when OpenMesh refuses it (a "complex edge": pieces of a contact cut meeting at
-/// a point merged within its tolerance), the face is still sound, so it goes in on vertices of
-/// its own, a seam in the exported mesh that the caller warns of once (`alone` set). Invalid
-/// only when even that is refused.
-OpenPatchMesh::FaceHandle add_face_or_alone(OpenPatchMesh& mesh, const std::vector<OpenPatchMesh::VertexHandle>& vh,
-                                            bool& alone) {
-    const auto f = mesh.add_face(vh);
-    if (f.is_valid()) return f;
-    std::vector<OpenPatchMesh::VertexHandle> own;
-    for (const auto& h : vh) {
-        const OpenPatchMesh::Point q = mesh.point(h);  // a copy: add_vertex may move the points
-        own.push_back(mesh.add_vertex(q));
-    }
-    alone = true;
-    return mesh.add_face(own);
-}
-
-/// Leaves out the vertices no face uses (grid corners inside a contact cut, the corners of a
-/// face OpenMesh refused before it went in on vertices of its own): every exported point is
-/// then a corner of some cell, with no stray radiosity 0 in the point data. The other vertices
-/// keep their order and the faces theirs (the same faces offered in the same order join the
-/// same way).
-/// Returns each old vertex's new index (-1: dropped), or nothing when none was dropped.
-std::vector<int> drop_unused_vertices(OpenPatchMesh& mesh) {
-    bool any = false;
-    for (auto v : mesh.vertices()) any = any || mesh.is_isolated(v);
-    if (!any) return {};
-    OpenPatchMesh compact;
-    std::vector<OpenPatchMesh::VertexHandle> to(mesh.n_vertices());
-    for (auto v : mesh.vertices())
-        if (!mesh.is_isolated(v)) {
-            const OpenPatchMesh::Point q = mesh.point(v);
-            to[std::size_t(v.idx())] = compact.add_vertex(q);
-        }
-    OpenMesh::FPropHandleT<int> surface_in, surface_out;
-    const bool has_surface = mesh.get_property_handle(surface_in, "f:surface");
-    if (has_surface) compact.add_property(surface_out, "f:surface");
-    std::vector<OpenPatchMesh::VertexHandle> vh;
-    for (auto f : mesh.faces()) {
-        vh.clear();
-        for (auto v : mesh.fv_range(f)) vh.push_back(to[std::size_t(v.idx())]);
-        bool alone = false;
-        const auto g = add_face_or_alone(compact, vh, alone);
-        if (!g.is_valid() || g.idx() != f.idx()) throw std::runtime_error("patch mesh: compacting the vertices failed");
-        if (has_surface) compact.property(surface_out, g) = mesh.property(surface_in, f);
-    }
-    mesh = compact;
-    std::vector<int> index(to.size(), -1);
-    for (std::size_t v = 0; v < to.size(); ++v)
-        if (to[v].is_valid()) index[v] = to[v].idx();
-    return index;
-}
 
 bool convex_quad(std::span<const V> q) {
     const V n = newell_normal(q);
@@ -291,291 +135,241 @@ double planned_patches(const Scene& scene, const MeshingOptions& options) {
     return plan_mesh(scene, options).patches;
 }
 
-PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
-    // Plan every piece first, so an absurd request is refused before anything is allocated.
-    MeshPlan plan = plan_mesh(scene, options);
-    m_edge = plan.edge;
-    const auto& pieces = plan.pieces;
-    const double planned = plan.patches;
-    const int split = options.element_split;
-    if (planned > double(options.max_patches)) {
-        std::ostringstream msg;
-        msg << "meshing would make " << planned << " patches, more than the limit of " << options.max_patches
-            << " (raise --max-area or --max-edge, or --max-memory)";
-        throw InputError(msg.str());
-    }
+namespace {
 
-    auto face_surface = OpenMesh::FPropHandleT<int>();
-    m_mesh.add_property(face_surface, "f:surface");
-    m_patches.reserve(std::size_t(planned));
-    m_parent.reserve(std::size_t(planned));
+/// The steps of PatchMesh(scene, options): faces go into the mesh and the patch list as they
+/// are made, each with the index of its patch in the element split 1 mesh (`parent`).
+class MeshBuilder {
+public:
+    MeshBuilder(const Scene& scene, const MeshingOptions& options, OpenPatchMesh& mesh, std::vector<Patch>& patches,
+                std::vector<std::uint32_t>& parents, std::vector<double>& clearance);
+    /// Discontinuity meshing: the surfaces with traced shadow boundaries are triangulated with
+    /// them as constraints (Lischinski, Tampieri and Greenberg 1992); their vertices are their
+    /// own, like every surface's, so conformity is a property of each triangulation.
+    void triangulate_discontinuities(double max_area, std::vector<std::string>& warnings);
+    /// Every piece's grid, but on the surfaces triangulated already.
+    void emit_pieces(const std::vector<std::pair<int, Piece>>& pieces);
+    /// Drops the unused vertices, sets the parents and warns of faces OpenMesh would not join.
+    void finish(std::vector<std::string>& warnings);
+
+private:
+    using VH = OpenPatchMesh::VertexHandle;
+    void emit_face(int si, const std::vector<VH>& vh);
+    VH vertex(const V& p) { return m_mesh.add_vertex(OpenPatchMesh::Point(p.x, p.y, p.z)); }
+    /// A vertex made on a contact cut: shared with the neighbour that makes the same point on
+    /// the current surface, so no T-vertex appears.
+    VH cut_vertex(int si, const V& p, double tolerance);
+    /// Contact cuts: a patch that overlaps a covered region keeps only its convex pieces outside
+    /// it (fanned into triangles beyond four corners); one inside it is left out.
+    void emit_patch(int si, const std::vector<VH>& vh);
+    /// Bilinear grid: sub-quads of a planar quad are planar and tile it exactly.
+    void emit_quad_grid(int si, const Piece& piece);
+    /// k x k similar triangles on the barycentric lattice (i, j), i + j <= k.
+    void emit_triangle_grid(int si, const Piece& piece);
+
+    const Scene& scene;
+    const MeshingOptions& options;
+    const int split;
+    OpenPatchMesh& m_mesh;
+    std::vector<Patch>& m_patches;
+    std::vector<std::uint32_t>& m_parent;
+    std::vector<double>& m_clearance;
+    OpenMesh::FPropHandleT<int> face_surface;
     std::uint32_t parent = 0;  // index of the current element's patch in the split = 1 mesh
     std::size_t apart = 0;     // faces OpenMesh would not join to their neighbours
     int first_apart = -1;
-    // OpenMesh prints its refusals on its own error stream; they are counted and reported below.
-    const QuietOpenMesh quiet;
-    auto emit_face = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
-        const auto& surface = scene.surfaces[si];
-        const auto& mat = scene.materials[surface.material];
-        Patch p;
-        p.vertex_count = int(vh.size());
-        for (int k = 0; k < p.vertex_count; ++k) {
-            const auto q = m_mesh.point(vh[k]);
-            p.vertices[k] = V(q[0], q[1], q[2]);
-        }
-        const V n = newell_normal(p.polygon());
-        p.area = 0.5 * glm::length(n);
-        p.normal = n / (2.0 * p.area);
-        p.centre = polygon_centroid(p.polygon());
-        p.reflectance = mat.reflectance;
-        p.emission = mat.emission;
-        p.surface = si;
-        bool alone = false;
-        const auto f = add_face_or_alone(m_mesh, vh, alone);
-        if (!f.is_valid())
-            throw std::runtime_error("patch mesh: OpenMesh refused a face of surface " + surface.where.to_string());
-        if (alone && apart++ == 0) first_apart = si;
-        m_mesh.property(face_surface, f) = si;
-        m_patches.push_back(p);
-        m_parent.push_back(parent);
-    };
-    auto vertex = [&](const V& p) { return m_mesh.add_vertex(OpenPatchMesh::Point(p.x, p.y, p.z)); };
+    const bool cut;                                              // contact cuts
+    std::vector<std::vector<const CoveredRegion*>> covered;      // per surface, with cut
+    std::vector<std::pair<V, VH>> cut_points;                    // of the current surface
+    int cut_surface = -1;
+    std::vector<bool> triangulated;  // per surface: meshed by discontinuity meshing
+};
 
-    // Contact cuts: a patch that overlaps a covered region keeps only its convex pieces outside
-    // it (fanned into triangles beyond four corners); one inside it is left out. Points made on a
-    // patch's edge are shared with the neighbour that makes the same point, so no T-vertex appears.
-    const bool cut = options.cut_contacts && split == 1 && !scene.covered.empty();
-    std::vector<std::vector<const CoveredRegion*>> covered(scene.surfaces.size());
+MeshBuilder::MeshBuilder(const Scene& scene_, const MeshingOptions& options_, OpenPatchMesh& mesh,
+                         std::vector<Patch>& patches, std::vector<std::uint32_t>& parents,
+                         std::vector<double>& clearance)
+    : scene(scene_),
+      options(options_),
+      split(options_.element_split),
+      m_mesh(mesh),
+      m_patches(patches),
+      m_parent(parents),
+      m_clearance(clearance),
+      cut(options_.cut_contacts && options_.element_split == 1 && !scene_.covered.empty()),
+      covered(scene_.surfaces.size()),
+      triangulated(scene_.surfaces.size(), false) {
+    m_mesh.add_property(face_surface, "f:surface");
     if (cut)
         for (const auto& c : scene.covered)
             if (c.surface >= 0 && std::size_t(c.surface) < covered.size()) covered[std::size_t(c.surface)].push_back(&c);
-    std::vector<std::pair<V, OpenPatchMesh::VertexHandle>> cut_points;  // of the current surface
-    int cut_surface = -1;
-    auto cut_vertex = [&](int si, const V& p, double tolerance) {
-        if (si != cut_surface) {
-            cut_points.clear();
-            cut_surface = si;
-        }
-        for (const auto& [q, h] : cut_points)
-            if (glm::length(q - p) <= tolerance) return h;
-        cut_points.emplace_back(p, vertex(p));
-        return cut_points.back().second;
-    };
-    // Discontinuity meshing: the surfaces with traced shadow boundaries are triangulated with
-    // them as constraints (Lischinski, Tampieri and Greenberg 1992); their vertices are their own,
-    // like every surface's, so conformity is a property of each triangulation.
-    std::vector<bool> triangulated(scene.surfaces.size(), false);
-    if (options.kind == MeshingOptions::Kind::discontinuity) {
-        if (split != 1) throw InputError("meshing: discontinuity meshing does not combine with an element split");
-        const TracedDiscontinuities traced = trace_discontinuities(scene, options.max_discontinuities);
-        m_warnings = traced.warnings;
-        // A (nearly) coplanar neighbour sharing an edge with a triangulated surface (the red wall's
-        // two triangles, 0.2 degrees apart) is triangulated too, and each takes the other's points
-        // on the seam: no T-vertex where the two meet. (At creases, as in the uniform mesh, each
-        // surface keeps its own vertices.)
-        const std::size_t n = scene.surfaces.size();
-        auto emits = [&](std::size_t si) { return scene.materials[std::size_t(scene.surfaces[si].material)].emission.max() > 0; };
-        std::vector<std::vector<std::size_t>> neighbours(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const auto& a = scene.surfaces[i].vertices;
-            const V na = newell_normal(a);
-            if (!(glm::length(na) > 0) || emits(i)) continue;
-            const double tol = 1e-9 * std::sqrt(glm::length(na));
-            for (std::size_t j = i + 1; j < n; ++j) {
-                const auto& b = scene.surfaces[j].vertices;
-                const V nb = newell_normal(b);
-                if (!(glm::length(nb) > 0) || emits(j) ||
-                    glm::dot(na, nb) < std::cos(0.02) * glm::length(na) * glm::length(nb))  // about a degree
-                    continue;
-                bool shared = false;
-                for (std::size_t k = 0; k < a.size() && !shared; ++k)
-                    for (std::size_t l = 0; l < b.size() && !shared; ++l)
-                        shared = glm::length(a[k] - b[(l + 1) % b.size()]) <= tol &&
-                                 glm::length(a[(k + 1) % a.size()] - b[l]) <= tol;
-                if (shared) {
-                    neighbours[i].push_back(j);
-                    neighbours[j].push_back(i);
+}
+
+void MeshBuilder::emit_face(int si, const std::vector<VH>& vh) {
+    const auto& surface = scene.surfaces[si];
+    const auto& mat = scene.materials[surface.material];
+    Patch p;
+    p.vertex_count = int(vh.size());
+    for (int k = 0; k < p.vertex_count; ++k) {
+        const auto q = m_mesh.point(vh[k]);
+        p.vertices[k] = V(q[0], q[1], q[2]);
+    }
+    const V n = newell_normal(p.polygon());
+    p.area = 0.5 * glm::length(n);
+    p.normal = n / (2.0 * p.area);
+    p.centre = polygon_centroid(p.polygon());
+    p.reflectance = mat.reflectance;
+    p.emission = mat.emission;
+    p.surface = si;
+    bool alone = false;
+    const auto f = add_face_or_alone(m_mesh, vh, alone);
+    if (!f.is_valid())
+        throw std::runtime_error("patch mesh: OpenMesh refused a face of surface " + surface.where.to_string());
+    if (alone && apart++ == 0) first_apart = si;
+    m_mesh.property(face_surface, f) = si;
+    m_patches.push_back(p);
+    m_parent.push_back(parent);
+}
+
+MeshBuilder::VH MeshBuilder::cut_vertex(int si, const V& p, double tolerance) {
+    if (si != cut_surface) {
+        cut_points.clear();
+        cut_surface = si;
+    }
+    for (const auto& [q, h] : cut_points)
+        if (glm::length(q - p) <= tolerance) return h;
+    cut_points.emplace_back(p, vertex(p));
+    return cut_points.back().second;
+}
+
+void MeshBuilder::triangulate_discontinuities(double max_area, std::vector<std::string>& warnings) {
+    if (split != 1) throw InputError("meshing: discontinuity meshing does not combine with an element split");
+    DiscontinuitySurfaces surfaces =
+        triangulate_discontinuity_surfaces(scene, options.max_discontinuities, max_area, options.aspect_bound);
+    warnings = std::move(surfaces.warnings);
+    for (std::size_t si = 0; si < surfaces.per_surface.size(); ++si) {
+        const SurfaceTriangulation& t = surfaces.per_surface[si];
+        if (t.triangles.empty()) continue;  // not wanted or degenerate: the grid meshes it
+        if (double(m_patches.size() + t.triangles.size()) > double(options.max_patches))
+            throw InputError("meshing would make more than the limit of " + std::to_string(options.max_patches) +
+                             " patches (raise --max-area or --max-edge, or --max-memory)");
+        triangulated[si] = true;
+        std::vector<OpenPatchMesh::VertexHandle> h;
+        for (const V& p : t.points) h.push_back(vertex(p));
+        for (const auto& tri : t.triangles) emit_face(int(si), {h[tri[0]], h[tri[1]], h[tri[2]]});
+    }
+}
+
+void MeshBuilder::emit_patch(int si, const std::vector<VH>& vh) {
+    if (!cut || covered[std::size_t(si)].empty()) return emit_face(si, vh);
+    std::vector<V> poly;
+    for (const auto& h : vh) {
+        const auto q = m_mesh.point(h);
+        poly.emplace_back(q[0], q[1], q[2]);
+    }
+    const V n = newell_normal(poly);
+    const double area = 0.5 * glm::length(n);
+    std::vector<std::vector<V>> pieces = {poly};
+    for (const CoveredRegion* c : covered[std::size_t(si)]) {
+        std::vector<std::vector<V>> next;
+        for (const auto& piece : pieces)
+            for (auto& q : subtract_convex(piece, c->polygon, n / (2 * area), 1e-9 * area)) next.push_back(std::move(q));
+        pieces = std::move(next);
+    }
+    if (pieces.size() == 1 && pieces[0] == poly) return emit_face(si, vh);
+    const double tolerance = 1e-9 * std::sqrt(area);
+    for (const auto& piece : pieces) {
+        std::vector<OpenPatchMesh::VertexHandle> h;
+        for (const V& p : piece) {
+            const auto corner = std::find(poly.begin(), poly.end(), p);
+            h.push_back(corner != poly.end() ? vh[std::size_t(corner - poly.begin())] : cut_vertex(si, p, tolerance));
+            for (const CoveredRegion* c : covered[std::size_t(si)])
+                if (c->gap > 0 && on_outline(c->polygon, p, 1e-7 * std::sqrt(area))) {
+                    const auto v = std::size_t(h.back().idx());
+                    if (m_clearance.size() <= v) m_clearance.resize(v + 1, 0.0);
+                    m_clearance[v] = std::max(m_clearance[v], PatchMesh::kGapBand * c->gap);
                 }
-            }
         }
-        std::vector<bool> wanted(n, false);
-        std::vector<std::size_t> queue;
-        for (std::size_t si = 0; si < n; ++si)
-            if (!traced.per_surface[si].empty()) {
-                wanted[si] = true;
-                queue.push_back(si);
-            }
-        for (std::size_t k = 0; k < queue.size(); ++k)
-            for (const std::size_t j : neighbours[queue[k]])
-                if (!wanted[j]) {
-                    wanted[j] = true;
-                    queue.push_back(j);
-                }
-        std::vector<SurfaceTriangulation> first(n);
-        for (std::size_t si = 0; si < n; ++si)
-            if (wanted[si])
-                first[si] = triangulate_surface(scene, int(si), traced.per_surface[si], plan.max_area, options.aspect_bound);
-        // The seams: each surface again, with its neighbours' points on the shared edges that it
-        // lacks put in after refinement (mesh/discontinuity_mesh.h).
-        std::vector<SurfaceTriangulation> with_seams = first;
-        for (std::size_t si = 0; si < n; ++si) {
-            if (!wanted[si]) continue;
-            const auto& poly = scene.surfaces[si].vertices;
-            const double tol = 1e-9 * std::sqrt(polygon_area(poly));
-            std::vector<V> seam;
-            for (const std::size_t j : neighbours[si])
-                for (const V& p : first[j].points) {
-                    bool on = false;
-                    for (std::size_t k = 0; k < poly.size() && !on; ++k) {
-                        const V a = poly[k], d = poly[(k + 1) % poly.size()] - a;
-                        const double t = glm::dot(p - a, d) / glm::dot(d, d);
-                        on = t > 1e-9 && t < 1 - 1e-9 && glm::length(a + t * d - p) <= tol;
-                    }
-                    if (!on) continue;
-                    bool known = false;
-                    for (const V& q : first[si].points) known = known || glm::length(q - p) <= tol;
-                    if (!known) seam.push_back(p);
-                }
-            if (!seam.empty())
-                with_seams[si] = triangulate_surface(scene, int(si), traced.per_surface[si], plan.max_area,
-                                                     options.aspect_bound, seam);
-        }
-        first = std::move(with_seams);
-        // A surface whose refinement ran over its budget keeps its grid, and so do its seam
-        // neighbours (their seam points would be missing on its side).
-        std::vector<std::size_t> given_up;
-        for (std::size_t si = 0; si < n; ++si)
-            if (wanted[si] && first[si].over_budget) given_up.push_back(si);
-        for (std::size_t k = 0; k < given_up.size(); ++k)
-            for (const std::size_t j : neighbours[given_up[k]])
-                if (wanted[j] && !first[j].triangles.empty()) {
-                    first[j] = {};
-                    given_up.push_back(j);
-                }
-        if (!given_up.empty()) {
-            std::ostringstream msg;
-            msg << "discontinuity meshing: the shadow boundaries on "
-                << describe(scene.surfaces[given_up[0]].where, scene.surfaces[given_up[0]].object);
-            if (given_up.size() > 1)
-                msg << " and " << given_up.size() - 1 << " more surface" << (given_up.size() > 2 ? "s" : "");
-            msg << " leave slivers too thin to mesh within the area limit; meshed uniformly";
-            m_warnings.push_back(msg.str());
-        }
-        for (std::size_t si = 0; si < n; ++si) {
-            if (!wanted[si]) continue;
-            const SurfaceTriangulation& t = first[si];
-            if (t.triangles.empty()) continue;  // degenerate: the grid below meshes it
-            if (double(m_patches.size() + t.triangles.size()) > double(options.max_patches))
-                throw InputError("meshing would make more than the limit of " + std::to_string(options.max_patches) +
-                                 " patches (raise --max-area or --max-edge, or --max-memory)");
-            triangulated[si] = true;
-            std::vector<OpenPatchMesh::VertexHandle> h;
-            for (const V& p : t.points) h.push_back(vertex(p));
-            for (const auto& tri : t.triangles) emit_face(int(si), {h[tri[0]], h[tri[1]], h[tri[2]]});
+        // Drop repeated handles (points that merged), then fan anything beyond a quad.
+        h.erase(std::unique(h.begin(), h.end()), h.end());
+        while (h.size() > 1 && h.front() == h.back()) h.pop_back();
+        if (h.size() < 3) continue;
+        if (h.size() <= 4) {
+            emit_face(si, h);
+        } else {
+            for (std::size_t k = 1; k + 1 < h.size(); ++k) emit_face(si, {h[0], h[k], h[k + 1]});
         }
     }
+}
 
-    auto emit_patch = [&](int si, const std::vector<OpenPatchMesh::VertexHandle>& vh) {
-        if (!cut || covered[std::size_t(si)].empty()) return emit_face(si, vh);
-        std::vector<V> poly;
-        for (const auto& h : vh) {
-            const auto q = m_mesh.point(h);
-            poly.emplace_back(q[0], q[1], q[2]);
-        }
-        const V n = newell_normal(poly);
-        const double area = 0.5 * glm::length(n);
-        std::vector<std::vector<V>> pieces = {poly};
-        for (const CoveredRegion* c : covered[std::size_t(si)]) {
-            std::vector<std::vector<V>> next;
-            for (const auto& piece : pieces)
-                for (auto& q : subtract_convex(piece, c->polygon, n / (2 * area), 1e-9 * area)) next.push_back(std::move(q));
-            pieces = std::move(next);
-        }
-        if (pieces.size() == 1 && pieces[0] == poly) return emit_face(si, vh);
-        const double tolerance = 1e-9 * std::sqrt(area);
-        for (const auto& piece : pieces) {
-            std::vector<OpenPatchMesh::VertexHandle> h;
-            for (const V& p : piece) {
-                const auto corner = std::find(poly.begin(), poly.end(), p);
-                h.push_back(corner != poly.end() ? vh[std::size_t(corner - poly.begin())] : cut_vertex(si, p, tolerance));
-                for (const CoveredRegion* c : covered[std::size_t(si)])
-                    if (c->gap > 0 && on_outline(c->polygon, p, 1e-7 * std::sqrt(area))) {
-                        const auto v = std::size_t(h.back().idx());
-                        if (m_clearance.size() <= v) m_clearance.resize(v + 1, 0.0);
-                        m_clearance[v] = std::max(m_clearance[v], kGapBand * c->gap);
-                    }
-            }
-            // Drop repeated handles (points that merged), then fan anything beyond a quad.
-            h.erase(std::unique(h.begin(), h.end()), h.end());
-            while (h.size() > 1 && h.front() == h.back()) h.pop_back();
-            if (h.size() < 3) continue;
-            if (h.size() <= 4) {
-                emit_face(si, h);
-            } else {
-                for (std::size_t k = 1; k + 1 < h.size(); ++k) emit_face(si, {h[0], h[k], h[k + 1]});
-            }
-        }
-    };
-
+void MeshBuilder::emit_pieces(const std::vector<std::pair<int, Piece>>& pieces) {
     for (const auto& [si, piece] : pieces) {
         if (triangulated[std::size_t(si)]) continue;
-        const auto& c = piece.corners;
-        if (c.size() == 4) {
-            // Bilinear grid: sub-quads of a planar quad are planar and tile it exactly.
-            const int nu = piece.nu * split, nv = piece.nv * split;
-            std::vector<OpenPatchMesh::VertexHandle> grid((nu + 1) * (nv + 1));
-            for (int b = 0; b <= nv; ++b)
-                for (int a = 0; a <= nu; ++a) {
-                    const double u = double(a) / nu, v = double(b) / nv;
-                    grid[b * (nu + 1) + a] =
-                        vertex((1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3]);
-                }
-            // Elements in the order of their patches (row-major over the k = 1 grid).
-            const std::uint32_t first = parent;
-            for (int B = 0; B < piece.nv; ++B)
-                for (int A = 0; A < piece.nu; ++A) {
-                    parent = first + std::uint32_t(B * piece.nu + A);
-                    for (int b = B * split; b < (B + 1) * split; ++b)
-                        for (int a = A * split; a < (A + 1) * split; ++a)
-                            emit_patch(si, {grid[b * (nu + 1) + a], grid[b * (nu + 1) + a + 1],
-                                            grid[(b + 1) * (nu + 1) + a + 1], grid[(b + 1) * (nu + 1) + a]});
-                }
-            parent = first + std::uint32_t(piece.nu * piece.nv);
-        } else {
-            // k x k similar triangles on the barycentric lattice (i, j), i + j <= k.
-            const int K = piece.nu, k = K * split;
-            std::vector<std::vector<OpenPatchMesh::VertexHandle>> lat(k + 1);
-            for (int i = 0; i <= k; ++i)
-                for (int j = 0; i + j <= k; ++j)
-                    lat[i].push_back(vertex(c[0] + (double(i) / k) * (c[1] - c[0]) + (double(j) / k) * (c[2] - c[0])));
-            // Patches of the k = 1 mesh in its order: up triangle (I, J), then down (I, J).
-            // An element's local lattice position (ii, jj) in cell (I, J) says which it is in:
-            // up elements with ii + jj < split and down ones with ii + jj + 1 < split lie in
-            // the cell's up patch, the rest in its down patch.
-            const std::uint32_t first = parent;
-            std::vector<std::uint32_t> up(std::size_t(K) * K), down(std::size_t(K) * K);
-            std::uint32_t next = first;
-            for (int I = 0; I < K; ++I)
-                for (int J = 0; I + J < K; ++J) {
-                    up[std::size_t(I) * K + J] = next++;
-                    if (I + J + 1 < K) down[std::size_t(I) * K + J] = next++;
-                }
-            auto cell_patch = [&](int i, int j, int extra) {
-                const int I = i / split, J = j / split, ii = i % split, jj = j % split;
-                return ii + jj + extra < split ? up[std::size_t(I) * K + J] : down[std::size_t(I) * K + J];
-            };
-            for (int i = 0; i < k; ++i)
-                for (int j = 0; i + j < k; ++j) {
-                    parent = cell_patch(i, j, 0);
-                    emit_patch(si, {lat[i][j], lat[i + 1][j], lat[i][j + 1]});
-                    if (i + j + 1 < k) {
-                        parent = cell_patch(i, j, 1);
-                        emit_patch(si, {lat[i + 1][j], lat[i + 1][j + 1], lat[i][j + 1]});
-                    }
-                }
-            parent = next;
-        }
+        if (piece.corners.size() == 4)
+            emit_quad_grid(si, piece);
+        else
+            emit_triangle_grid(si, piece);
     }
+}
+
+void MeshBuilder::emit_quad_grid(int si, const Piece& piece) {
+    const auto& c = piece.corners;
+    const int nu = piece.nu * split, nv = piece.nv * split;
+    std::vector<OpenPatchMesh::VertexHandle> grid((nu + 1) * (nv + 1));
+    for (int b = 0; b <= nv; ++b)
+        for (int a = 0; a <= nu; ++a) {
+            const double u = double(a) / nu, v = double(b) / nv;
+            grid[b * (nu + 1) + a] =
+                vertex((1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3]);
+        }
+    // Elements in the order of their patches (row-major over the k = 1 grid).
+    const std::uint32_t first = parent;
+    for (int B = 0; B < piece.nv; ++B)
+        for (int A = 0; A < piece.nu; ++A) {
+            parent = first + std::uint32_t(B * piece.nu + A);
+            for (int b = B * split; b < (B + 1) * split; ++b)
+                for (int a = A * split; a < (A + 1) * split; ++a)
+                    emit_patch(si, {grid[b * (nu + 1) + a], grid[b * (nu + 1) + a + 1],
+                                    grid[(b + 1) * (nu + 1) + a + 1], grid[(b + 1) * (nu + 1) + a]});
+        }
+    parent = first + std::uint32_t(piece.nu * piece.nv);
+}
+
+void MeshBuilder::emit_triangle_grid(int si, const Piece& piece) {
+    const auto& c = piece.corners;
+    const int K = piece.nu, k = K * split;
+    std::vector<std::vector<OpenPatchMesh::VertexHandle>> lat(k + 1);
+    for (int i = 0; i <= k; ++i)
+        for (int j = 0; i + j <= k; ++j)
+            lat[i].push_back(vertex(c[0] + (double(i) / k) * (c[1] - c[0]) + (double(j) / k) * (c[2] - c[0])));
+    // Patches of the k = 1 mesh in its order: up triangle (I, J), then down (I, J).
+    // An element's local lattice position (ii, jj) in cell (I, J) says which it is in:
+    // up elements with ii + jj < split and down ones with ii + jj + 1 < split lie in
+    // the cell's up patch, the rest in its down patch.
+    const std::uint32_t first = parent;
+    std::vector<std::uint32_t> up(std::size_t(K) * K), down(std::size_t(K) * K);
+    std::uint32_t next = first;
+    for (int I = 0; I < K; ++I)
+        for (int J = 0; I + J < K; ++J) {
+            up[std::size_t(I) * K + J] = next++;
+            if (I + J + 1 < K) down[std::size_t(I) * K + J] = next++;
+        }
+    auto cell_patch = [&](int i, int j, int extra) {
+        const int I = i / split, J = j / split, ii = i % split, jj = j % split;
+        return ii + jj + extra < split ? up[std::size_t(I) * K + J] : down[std::size_t(I) * K + J];
+    };
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; i + j < k; ++j) {
+            parent = cell_patch(i, j, 0);
+            emit_patch(si, {lat[i][j], lat[i + 1][j], lat[i][j + 1]});
+            if (i + j + 1 < k) {
+                parent = cell_patch(i, j, 1);
+                emit_patch(si, {lat[i + 1][j], lat[i + 1][j + 1], lat[i][j + 1]});
+            }
+        }
+    parent = next;
+}
+
+void MeshBuilder::finish(std::vector<std::string>& warnings) {
     if (const std::vector<int> index = drop_unused_vertices(m_mesh); !index.empty() && !m_clearance.empty()) {
         std::vector<double> kept(m_mesh.n_vertices(), 0.0);
         for (std::size_t v = 0; v < m_clearance.size(); ++v)
@@ -589,7 +383,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     if (apart > 0) {
         const auto& first = scene.surfaces[std::size_t(first_apart)];
         const bool one = apart == 1;
-        m_warnings.push_back("meshing: " + std::to_string(apart) + (one ? " patch on " : " patches (the first on ") +
+        warnings.push_back("meshing: " + std::to_string(apart) + (one ? " patch on " : " patches (the first on ") +
                              describe(first.where, first.object) + (one ? "" : ")") +
                              (one ? " would not join its neighbours' edges and keeps vertices of its own"
                                   : " would not join their neighbours' edges and keep vertices of their own") +
@@ -597,6 +391,28 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     }
 }
 
+}  // namespace
+
+PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
+    // Plan every piece first, so an absurd request is refused before anything is allocated.
+    MeshPlan plan = plan_mesh(scene, options);
+    m_edge = plan.edge;
+    const double planned = plan.patches;
+    if (planned > double(options.max_patches)) {
+        std::ostringstream msg;
+        msg << "meshing would make " << planned << " patches, more than the limit of " << options.max_patches
+            << " (raise --max-area or --max-edge, or --max-memory)";
+        throw InputError(msg.str());
+    }
+    m_patches.reserve(std::size_t(planned));
+    m_parent.reserve(std::size_t(planned));
+    // OpenMesh prints its refusals on its own error stream; they are counted and reported below.
+    const QuietOpenMesh quiet;
+    MeshBuilder builder(scene, options, m_mesh, m_patches, m_parent, m_clearance);
+    if (options.kind == MeshingOptions::Kind::discontinuity) builder.triangulate_discontinuities(plan.max_area, m_warnings);
+    builder.emit_pieces(plan.pieces);
+    builder.finish(m_warnings);
+}
 PatchMesh::PatchMesh(std::vector<Patch> patches, const std::vector<glm::dvec3>& points,
                      const std::vector<std::vector<std::uint32_t>>& faces)
     : m_patches(std::move(patches)) {
