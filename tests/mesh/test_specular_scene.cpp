@@ -250,3 +250,26 @@ f 1 2 3 4
         }
     }
 }
+
+TEST(SpecularScene, CornellSpheresIsTheBoxWithAMirrorAndAGlassSphereOnTheFloor) {
+    const Scene box = load_scene("cornell");
+    const Scene s = load_scene("cornell-spheres");
+    EXPECT_EQ(s.name, "cornell-spheres");
+    EXPECT_EQ(s.units, "mm");
+    // The room without the blocks: the same walls and light, in the same order.
+    ASSERT_EQ(s.surfaces.size(), 7u);
+    for (std::size_t k = 0; k < s.surfaces.size(); ++k) EXPECT_EQ(s.surfaces[k].vertices, box.surfaces[k].vertices);
+    ASSERT_EQ(s.spheres.size(), 2u);
+    EXPECT_EQ(s.materials[std::size_t(s.spheres[0].material)].kind, MaterialKind::mirror);
+    EXPECT_EQ(s.materials[std::size_t(s.spheres[1].material)].kind, MaterialKind::glass);
+    EXPECT_DOUBLE_EQ(s.materials[std::size_t(s.spheres[1].material)].ior, 1.5);
+    for (const auto& sphere : s.spheres) {
+        // Resting on the floor: a ray straight down meets it 100 mm above it.
+        const V c = sphere.transform.point(V(0.0));
+        EXPECT_DOUBLE_EQ(c.y, 100.0);
+        const auto hit = intersect_sphere(sphere, c + V(0, 1000, 0), V(0, -1, 0), 0.0, 1e30);
+        ASSERT_TRUE(hit);
+        EXPECT_NEAR(hit->position.y, 200.0, 1e-9);
+        EXPECT_NEAR(hit->normal.y, 1.0, 1e-12);
+    }
+}
