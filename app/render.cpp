@@ -46,7 +46,9 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
     }
     Scene scene;
     PatchMesh mesh = load_and_mesh(o, r.input, scene);
-    const auto visibility = make_visibility(o.visibility, mesh.patches());
+    if (!interactive && (scene.has_specular() || r.two_pass.ray_trace))
+        return run_two_pass_render(o, scene, mesh, r.output, r.render, r.two_pass);
+    const auto visibility = make_visibility(o.visibility, mesh.patches(), specular_occluders(scene));
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
     const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
     interactive ? view_solution(mesh, res, {r.input, "", false, scene.units}, r.render, r.exit_after)
@@ -57,10 +59,13 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
 
 Command add_render_command(CLI::App& app, CommonOptions& common) {
     auto rc = std::make_shared<RenderCommand>();
-    auto* render_cmd = app.add_subcommand("render", "render a .vtu (or a scene, solved first) to a PNG or JPEG");
+    auto* render_cmd = app.add_subcommand(
+        "render",
+        "render a .vtu (or a scene, solved first; by eye rays when it has mirrors or glass) to a PNG or JPEG");
     render_cmd->add_option("input", rc->input, "IN.vtu, or a scene")->required();
     render_cmd->add_option("-o,--output", rc->output, "output picture: .png, or .jpg/.jpeg for JPEG")->required();
     add_render_options(render_cmd, rc->render);
+    add_two_pass_options(render_cmd, rc->two_pass);
     add_meshing_options_no_scene(render_cmd, common);
     return {render_cmd, [&common, rc] { return run_render(common, *rc, false); }};
 }

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+// `bounce render` of scenes with mirrors and glass: the two-pass picture by eye rays, its
+// interruption, and the refusal of bad specular input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "test_util.h"
+
+namespace {
+
+const std::string kExe = BOUNCE_EXE;
+
+bounce::test::RunResult bounce_run(const std::string& args) { return bounce::test::run(kExe + " " + args); }
+
+std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+bool is_png(const std::filesystem::path& p) { return slurp(p).rfind("\x89PNG\r\n\x1a\n", 0) == 0; }
+
+bool no_temporaries(const std::filesystem::path& dir) {
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        if (e.path().filename().string().find(".tmp") != std::string::npos) return false;
+    return true;
+}
+
+// A cheap light pass: few patches and photons.
+const std::string kQuick = " --patches 200 --photons 20000";
+
+}  // namespace
+
+TEST(CliSpecular, RenderDrawsTheSpheresBoxByEyeRays) {
+    bounce::test::TempDir dir;
+    const auto png = dir / "spheres.png";
+    const auto r = bounce_run("render cornell-spheres -o " + png.string() + " --size 48x40 --samples 1" + kQuick);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(is_png(png));
+    EXPECT_NE(r.out.find("wrote " + png.string()), std::string::npos) << r.out;
+    EXPECT_NE(r.err.find("caustic photons stored"), std::string::npos) << r.err;
+    EXPECT_TRUE(no_temporaries(dir.path()));
+    // A diffuse scene keeps VTK's picture unless asked for eye rays.
+    const auto traced = bounce_run("render cornell --ray-trace -o " + (dir / "box.png").string() +
+                                   " --size 32x32 --samples 1 --patches 200 --quiet");
+    EXPECT_EQ(traced.exit_code, 0) << traced.err;
+    EXPECT_TRUE(is_png(dir / "box.png"));
+}
+
+TEST(CliSpecular, CtrlCKeepsAWholePictureOfTheRowsDone) {
+    bounce::test::TempDir dir;
+    const auto png = dir / "big.png";
+    // The light pass takes about a second; the eye pass of 1500 x 1500 at 64 rays a pixel
+    // minutes, so the signal after 6 s stops it.
+    const auto r =
+        bounce::test::run("timeout --foreground --preserve-status -s INT 6 " + kExe + " render cornell-spheres -o " +
+                          png.string() + " --size 1500x1500 --samples 64" + kQuick);
+    EXPECT_EQ(r.exit_code, 130) << r.err;
+    EXPECT_NE(r.err.find("interrupted: " + png.string() + " holds the"), std::string::npos) << r.err;
+    EXPECT_TRUE(is_png(png));
+    EXPECT_TRUE(no_temporaries(dir.path()));
+}
+
+TEST(CliSpecular, BadSpecularInputIsOneLineAndExitTwo) {
+    bounce::test::TempDir dir;
+    const auto scene = dir.write("bad.json", R"({"materials": {"g": {"kind": "glass", "ior": 0.5}},
+        "objects": [{"type": "sphere", "material": "g"}]})");
+    const auto r = bounce_run("render " + scene.string() + " -o " + (dir / "x.png").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("bad.json: material 'g': index of refraction"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+    const auto singular = dir.write("flat.json", R"({"materials": {"m": {"kind": "mirror"}},
+        "objects": [{"type": "sphere", "material": "m", "transform": {"scale": [1, 1, 0]}}]})");
+    const auto s = bounce_run("solve " + singular.string() + " -o " + (dir / "x.vtu").string());
+    EXPECT_EQ(s.exit_code, 2);
+    EXPECT_NE(s.err.find("flat.json: objects[0]: transform is singular"), std::string::npos) << s.err;
+}
