@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <fstream>
 #include <numbers>
 
 #include <vtkImageData.h>
@@ -34,8 +35,31 @@ PinholeCamera eye_camera(const PatchMesh& mesh, const SolveResult& result, const
     return cam;
 }
 
+void write_pfm(const std::filesystem::path& path, int width, int height, const std::vector<Rgb>& pixels) {
+    std::filesystem::path tmp = path;
+    tmp += ".tmp-" + std::to_string(::getpid()) + ".pfm";
+    const PendingOutput pending(tmp.c_str());
+    bool ok = false;
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        // A negative scale says little-endian; rows run bottom to top.
+        out << "PF\n" << width << " " << height << "\n-1.0\n";
+        std::vector<float> row(3 * std::size_t(width));
+        for (int r = height - 1; r >= 0; --r) {
+            for (int c = 0; c < width; ++c) {
+                const Rgb& L = pixels[std::size_t(r) * std::size_t(width) + std::size_t(c)];
+                for (int k = 0; k < 3; ++k) row[3 * std::size_t(c) + std::size_t(k)] = float(L[k]);
+            }
+            out.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * sizeof(float)));
+        }
+        ok = bool(out);
+    }
+    commit_output(tmp, path, ok, "PFM picture");
+}
+
 void write_eye_picture(const EyeImage& image, const PatchMesh& mesh, const SolveResult& result, double exposure,
                        const std::filesystem::path& picture) {
+    if (picture.extension() == ".pfm") return write_pfm(picture, image.width, image.height, image.pixels);
     check_picture_path(picture);
     std::vector<Rgb> emission;
     std::vector<double> area;

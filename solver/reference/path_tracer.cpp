@@ -616,15 +616,34 @@ RadiosityEstimate PathTracer::estimate(const SurfacePoint& x, const ReferenceOpt
 
 RadianceEstimate PathTracer::radiance(const glm::dvec3& origin, const glm::dvec3& direction, std::uint64_t paths,
                                       std::uint64_t seed, std::uint64_t index) const {
+    return pixel_radiance(origin, direction, glm::dvec3(0.0), glm::dvec3(0.0), paths, seed, index);
+}
+
+RadianceEstimate PathTracer::pixel_radiance(const glm::dvec3& origin, const glm::dvec3& corner, const glm::dvec3& du,
+                                            const glm::dvec3& dv, std::uint64_t paths, std::uint64_t seed,
+                                            std::uint64_t index) const {
     const Impl& im = *m_impl;
     Random rng(seed, index);
     BatchStatistics stats;
     auto random_pair = [&](std::size_t) { return std::pair{rng.uniform(), rng.uniform()}; };
-    const glm::dvec3 d = glm::normalize(direction);
+    const bool area = glm::length(du) > 0 || glm::length(dv) > 0;
+    std::array<int, kBatch> strata{};
     const std::uint64_t batches = std::max<std::uint64_t>(2, (paths + kBatch - 1) / kBatch);
     for (std::uint64_t b = 0; b < batches; ++b) {
         Rgb batch_sum;
+        if (area) {
+            for (int k = 0; k < kBatch; ++k) strata[std::size_t(k)] = k;
+            std::shuffle(strata.begin(), strata.end(), rng.engine());
+        }
         for (int path = 0; path < kBatch; ++path) {
+            glm::dvec3 d = corner;
+            if (area) {
+                const int stratum = strata[std::size_t(path)];
+                const double u = (double(stratum % kStrataSide) + rng.uniform()) / kStrataSide;
+                const double v = (double(stratum / kStrataSide) + rng.uniform()) / kStrataSide;
+                d += u * du + v * dv;
+            }
+            d = glm::normalize(d);
             Rgb throughput = Rgb::gray(1.0);
             const auto a = im.follow(m_scene, origin, d, throughput, [&] { return rng.uniform(); });
             if (a.surface < 0) continue;

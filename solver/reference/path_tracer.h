@@ -109,6 +109,14 @@ public:
     RadianceEstimate radiance(const glm::dvec3& origin, const glm::dvec3& direction, std::uint64_t paths,
                               std::uint64_t seed, std::uint64_t index) const;
 
+    /// The mean radiance over a pixel of a pinhole camera at `origin`: rays towards
+    /// corner + u du + v dv for (u, v) in [0,1)^2, stratified 8 x 8 within each batch of 64
+    /// (anti-aliasing by a box filter), `paths` rounded up to whole batches; the standard error
+    /// from the spread of the batch means.
+    RadianceEstimate pixel_radiance(const glm::dvec3& origin, const glm::dvec3& corner, const glm::dvec3& du,
+                                    const glm::dvec3& dv, std::uint64_t paths, std::uint64_t seed,
+                                    std::uint64_t index) const;
+
     /// Estimates every point in parallel (TBB). `progress(done, total)` is called from worker
     /// threads after each point. Points not started when `stop` is raised come back with
     /// status interrupted and zero paths.

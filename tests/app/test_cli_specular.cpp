@@ -79,3 +79,25 @@ TEST(CliSpecular, BadSpecularInputIsOneLineAndExitTwo) {
     EXPECT_EQ(s.exit_code, 2);
     EXPECT_NE(s.err.find("flat.json: objects[0]: transform is singular"), std::string::npos) << s.err;
 }
+
+TEST(CliSpecular, LinearPicturesForScoringAsPfm) {
+    bounce::test::TempDir dir;
+    auto header_ok = [&](const std::filesystem::path& p, int w, int h) {
+        const std::string bytes = slurp(p);
+        const std::string head = "PF\n" + std::to_string(w) + " " + std::to_string(h) + "\n-1.0\n";
+        return bytes.rfind(head, 0) == 0 && bytes.size() == head.size() + std::size_t(w * h * 3 * 4);
+    };
+    const auto ref = bounce_run("reference cornell-spheres --image " + (dir / "ref.pfm").string() +
+                                " --size 12x10 --paths 64 --quiet");
+    EXPECT_EQ(ref.exit_code, 0) << ref.err;
+    EXPECT_TRUE(header_ok(dir / "ref.pfm", 12, 10));
+    EXPECT_TRUE(header_ok(dir / "ref_se.pfm", 12, 10));
+    const auto two = bounce_run("render cornell-spheres -o " + (dir / "two.pfm").string() +
+                                " --size 12x10 --samples 1 --quiet" + kQuick);
+    EXPECT_EQ(two.exit_code, 0) << two.err;
+    EXPECT_TRUE(header_ok(dir / "two.pfm", 12, 10));
+    EXPECT_TRUE(no_temporaries(dir.path()));
+    const auto bad = bounce_run("reference cornell --image " + (dir / "x.png").string());
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.err.find("expected .pfm"), std::string::npos) << bad.err;
+}

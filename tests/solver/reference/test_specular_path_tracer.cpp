@@ -155,3 +155,31 @@ TEST(SpecularPathTracer, FurnaceWithAPerfectMirrorOrClearGlassSphereInsideStillR
             }
     }
 }
+
+TEST(SpecularPathTracer, ErrorBarsThroughGlassMatchTheSpreadOverSeeds) {
+    // The lamp seen through the glass slab and, beside it, a plate lit through it: over 20
+    // seeds the spread of the estimates matches the standard error they report.
+    Scene s;
+    s.materials = {{"lamp", Rgb(), Rgb::gray(1.0)}, glass(1.5), {"plate", Rgb::gray(0.6), Rgb()}};
+    s.surfaces.push_back({{{-1, -1, 3}, {-1, 1, 3}, {1, 1, 3}, {1, -1, 3}}, 0, "lamp", {"test", 0}});  // faces down
+    s.surfaces.push_back({{{-5, -5, 0}, {5, -5, 0}, {5, 5, 0}, {-5, 5, 0}}, 2, "plate", {"test", 0}});
+    add_box(s, {-2, -2, 1.0}, {2, 2, 1.3}, 1);
+    const PathTracer pt(s);
+    for (const V& target : {V(0, 0, 3), V(0.3, 0.2, 0)}) {
+        const V eye = target.z > 0 ? V(0.1, 0.1, 0.5) : V(0.3, 0.2, 0.8);
+        std::vector<double> values, errors;
+        for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+            const auto L = pt.radiance(eye, target - eye, 64 * 40, seed, 0);
+            values.push_back(L.radiance.g);
+            errors.push_back(L.standard_error.g);
+        }
+        double mean = 0, se = 0;
+        for (std::size_t k = 0; k < values.size(); ++k) mean += values[k] / 20, se += errors[k] / 20;
+        double var = 0;
+        for (const double x : values) var += (x - mean) * (x - mean) / 19;
+        const double spread = std::sqrt(var);
+        EXPECT_GT(se, 0.0);
+        EXPECT_LT(spread, 1.5 * se) << "target z " << target.z;
+        EXPECT_GT(spread, se / 1.5) << "target z " << target.z;
+    }
+}
