@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "app/two_pass_render.h"
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <optional>
@@ -26,7 +27,8 @@ void add_two_pass_options(CLI::App* cmd, TwoPassOptions& t) {
     cmd->add_flag("--ray-trace", t.ray_trace,
                   "draw by eye rays over the radiosity (the default for scenes with mirrors or glass)");
     cmd->add_option("--samples", t.samples, "eye rays: rays per pixel, jittered (16)")->check(CLI::Range(1, 4096));
-    cmd->add_option("--photons", t.photons, "eye rays: caustic photons emitted (500000; 0: no caustics)");
+    cmd->add_option("--photons", t.photons,
+                    "eye rays: photons emitted in each of the two light-pass rounds (500000; 0: none)");
     cmd->add_option("--photon-nearest", t.nearest,
                     "eye rays: photons per caustic radiance estimate (64; 0: all within --photon-radius)");
     cmd->add_option("--photon-radius", t.photon_radius,
@@ -44,32 +46,62 @@ int run_two_pass_render(const CommonOptions& o, const Scene& scene, const PatchM
     const auto& P = mesh.patches();
     const PatchSceneTracer tracer(scene, mesh);
 
-    // Light pass, caustics: photons through mirrors and glass to the patches.
-    std::optional<CausticMap> caustics;
+    // Light pass. Mirrors and glass occlude the radiosity's form factors; photons carry the light
+    // they redirect and hand it to the patches where it lands (rho Phi / A, added to the
+    // patches' emission for the solve, so the solution carries it on). Round 1: photons from
+    // the emitters (L S+ D). Round 2, after a first solve: photons from every patch with its
+    // reflected radiosity (L D+ S+ D: a wall seen in the mirror lights the floor), then the
+    // solve again with both.
+    const bool photons = t.photons > 0 && scene.has_specular();
+    CausticOptions co;
+    co.photons = t.photons;
+    co.radius = t.photon_radius;
+    co.nearest = t.nearest;
+    co.seed = t.seed;
+    std::vector<CausticPhoton> stored;
     std::vector<Rgb> caustic_radiosity(P.size());  // rho Phi / A: the light the photons reflect off each patch
-    if (t.photons > 0 && scene.has_specular()) {
-        CausticOptions co;
-        co.photons = t.photons;
-        co.radius = t.photon_radius;
-        co.nearest = t.nearest;
-        co.seed = t.seed;
-        caustics.emplace(mesh, tracer, co, &g_interrupted);
-        const auto power = caustics->power_per_patch();
+    std::size_t emitted = 0;
+    double specular_first = 0, radius = 0;
+    auto add_photons = [&](const CausticMap& map) {
+        const auto power = map.power_per_patch();
         for (std::size_t p = 0; p < P.size(); ++p)
-            if (P[p].area > 0) caustic_radiosity[p] = P[p].reflectance * power[p] * (1.0 / P[p].area);
+            if (P[p].area > 0) caustic_radiosity[p] += P[p].reflectance * power[p] * (1.0 / P[p].area);
+        stored.insert(stored.end(), map.photons().begin(), map.photons().end());
+        emitted += map.emitted();
+        radius = map.radius();
+    };
+    const auto visibility = make_visibility(o.visibility, P, specular_occluders(scene));
+    auto solve = [&] {
+        std::vector<Patch> lit = P;
+        for (std::size_t p = 0; p < P.size(); ++p) lit[p].emission += caustic_radiosity[p];
+        const auto ff = make_form_factor_estimator("raycast", lit, visibility.get(), {});
+        ShootingOptions so;
+        so.cancel = &g_interrupted;
+        SolveResult r = ShootingSolver(lit, *ff, so).solve();
+        if (g_interrupted.load()) throw Interrupted("interrupted while solving the radiosity");
+        return r;
+    };
+    if (photons) {
+        const CausticMap lamps(mesh, tracer, co, &g_interrupted);
+        if (g_interrupted.load()) throw Interrupted("interrupted while tracing caustic photons");
+        specular_first = lamps.specular_first_share();
+        add_photons(lamps);
     }
-    if (g_interrupted.load()) throw Interrupted("interrupted while tracing caustic photons");
-
-    // Light pass, radiosity: the caustic light leaves its patches as if they emitted it, so
-    // the solution carries it on to the rest of the scene.
-    std::vector<Patch> lit = P;
-    for (std::size_t p = 0; p < P.size(); ++p) lit[p].emission += caustic_radiosity[p];
-    const auto visibility = make_visibility(o.visibility, lit, specular_occluders(scene));
-    const auto ff = make_form_factor_estimator("raycast", lit, visibility.get(), {});
-    ShootingOptions so;
-    so.cancel = &g_interrupted;
-    SolveResult res = ShootingSolver(lit, *ff, so).solve();
-    if (g_interrupted.load()) throw Interrupted("interrupted while solving the radiosity");
+    SolveResult res = solve();
+    if (photons) {
+        std::vector<Rgb> reflected(P.size());
+        for (std::size_t p = 0; p < P.size(); ++p) {
+            reflected[p] = res.radiosity[p] - P[p].emission;
+            for (int c = 0; c < 3; ++c) reflected[p][c] = std::max(0.0, reflected[p][c]);
+        }
+        co.seed = t.seed + 1;
+        const CausticMap surfaces(mesh, tracer, co, &g_interrupted, &reflected);
+        if (g_interrupted.load()) throw Interrupted("interrupted while tracing caustic photons");
+        add_photons(surfaces);
+        res = solve();
+    }
+    std::optional<CausticMap> caustics;
+    if (photons) caustics.emplace(std::move(stored), radius, P.size(), t.nearest);
     // The point data, gathered at the vertices from the solved patches: each vertex's own
     // emission is the mesh's (without the caustic term), so the gathered B holds the caustic
     // light only as it arrives from elsewhere; the photon map adds the caustic where it lands.
@@ -106,8 +138,8 @@ int run_two_pass_render(const CommonOptions& o, const Scene& scene, const PatchM
     if (!o.quiet) {
         std::cerr << "two-pass: " << P.size() << " patches, " << res.steps << " shots";
         if (caustics)
-            std::cerr << ", " << caustics->photons().size() << " caustic photons stored of " << caustics->emitted()
-                      << " emitted (" << 100.0 * caustics->specular_first_share() << "% met a mirror or glass first)";
+            std::cerr << ", " << caustics->photons().size() << " caustic photons stored of " << emitted << " emitted ("
+                      << 100.0 * specular_first << "% of the emitters' met a mirror or glass first)";
         std::cerr << "; light pass " << light_seconds << " s, eye pass " << seconds() - light_seconds << " s\n";
     }
     if (!image.complete()) {

@@ -111,9 +111,13 @@ struct CausticMap::Tree {
 };
 
 CausticMap::CausticMap(const PatchMesh& mesh, const PatchSceneTracer& tracer, const CausticOptions& options,
-                       const std::atomic<bool>* stop)
+                       const std::atomic<bool>* stop, const std::vector<Rgb>* exitance)
     : m_patches(mesh.size()) {
     const auto& P = mesh.patches();
+    if (exitance && exitance->size() != P.size())
+        throw std::invalid_argument("caustic map: exitance and mesh differ in size");
+    // What leaves each patch per unit area: its emission, or the radiosity given.
+    auto leaving = [&](std::size_t p) { return exitance ? (*exitance)[p] : P[p].emission; };
     m_radius = options.radius > 0 ? options.radius : 0.02 * tracer.diagonal();
     m_nearest = options.nearest;
     // Emitters by power, summed over channels.
@@ -121,7 +125,7 @@ CausticMap::CausticMap(const PatchMesh& mesh, const PatchSceneTracer& tracer, co
     std::vector<double> cumulative;
     double total = 0;
     for (std::size_t p = 0; p < P.size(); ++p) {
-        const Rgb power = P[p].emission * P[p].area;
+        const Rgb power = leaving(p) * P[p].area;
         m_emitted_power += power;
         if (power.sum() > 0) {
             total += power.sum();
@@ -148,8 +152,9 @@ CausticMap::CausticMap(const PatchMesh& mesh, const PatchSceneTracer& tracer, co
                 std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin()),
                 emitters.size() - 1);
             const Patch& source = P[std::size_t(emitters[e])];
+            const Rgb out = leaving(std::size_t(emitters[e]));
             // Power: E A / (N q) per channel with q = (E A).sum() / total, the emitter's share.
-            const Rgb power = source.emission * (total / (source.emission.sum() * double(m_emitted)));
+            const Rgb power = out * (total / (out.sum() * double(m_emitted)));
             const glm::dvec3 o = point_on(source, uniform(), uniform(), uniform()) + eps * source.normal;
             const glm::dvec3 d = cosine_direction(source.normal, uniform(), uniform());
             bool first_specular = false;

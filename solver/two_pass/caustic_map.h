@@ -58,8 +58,13 @@ public:
     /// refracted, power times the transmittance entering) to the first diffuse patch and stored
     /// there if it arrives on the front. Photons are traced in parallel blocks, each from its own
     /// random stream. Stored in a k-d tree (nanoflann) for the radiance estimate.
+    ///
+    /// `exitance`, when given, replaces the emission as what leaves each patch (W per unit area
+    /// per channel): the reflected radiosity of a solution, for the light that diffuse surfaces
+    /// send through mirrors and glass onto others (paths L D+ S+ D), which the radiosity's
+    /// form factors, blocked by mirrors and glass, do not carry.
     CausticMap(const PatchMesh& mesh, const PatchSceneTracer& tracer, const CausticOptions& options,
-               const std::atomic<bool>* stop = nullptr);
+               const std::atomic<bool>* stop = nullptr, const std::vector<Rgb>* exitance = nullptr);
     ~CausticMap();
     CausticMap(const CausticMap&) = delete;
     CausticMap& operator=(const CausticMap&) = delete;
@@ -78,7 +83,7 @@ public:
 
     const std::vector<CausticPhoton>& photons() const { return m_photons; }
     std::size_t emitted() const { return m_emitted; }
-    Rgb emitted_power() const { return m_emitted_power; }  // sum of E A over the emitting patches
+    Rgb emitted_power() const { return m_emitted_power; }  // sum of E A (or exitance A) over the patches
     /// Share of emitted photons whose first hit was a mirror or glass (before absorption on
     /// the way): the share of the emitted power the caustic paths start with.
     double specular_first_share() const { return m_specular_first; }

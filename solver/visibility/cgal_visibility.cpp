@@ -23,6 +23,7 @@ class CgalVisibility final : public Visibility {
 public:
     CgalVisibility(const std::vector<Patch>& patches, std::span<const OccluderTriangle> occluders) {
         fit_offset(patches);
+        m_has_occluders = !occluders.empty();
         for (const auto& p : patches)
             for (int k = 1; k + 1 < p.vertex_count; ++k)
                 m_triangles.emplace_back(to_cgal(p.vertices[0]), to_cgal(p.vertices[k]), to_cgal(p.vertices[k + 1]));

@@ -22,6 +22,7 @@ class EmbreeVisibility final : public Visibility {
 public:
     EmbreeVisibility(const std::vector<Patch>& patches, std::span<const OccluderTriangle> occluders) {
         m_centre = fit_offset(patches);
+        m_has_occluders = !occluders.empty();
         std::size_t triangles = occluders.size();
         for (const auto& p : patches) triangles += std::size_t(p.vertex_count - 2);
 

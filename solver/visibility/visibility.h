@@ -46,6 +46,9 @@ public:
     /// Distance to lift ray endpoints off their surfaces: tiny against the scene (1e-6 of its
     /// diagonal), yet far above the rounding error of the coordinates.
     double offset() const { return m_offset; }
+    /// True when rays are also blocked by occluder triangles that are no patches (mirrors and
+    /// glass): a shaft test over the patches alone (ShaftCuller) cannot prove a pair unblocked.
+    bool has_occluders() const { return m_has_occluders; }
 
 protected:
     /// The part of a segment that is tested: t in [t0, 1 - t0] of a + t (b - a), trimmed at
@@ -77,6 +80,7 @@ protected:
     }
 
     double m_offset = 0.0;
+    bool m_has_occluders = false;
 };
 
 /// CGAL AABB tree of the patches' triangles and the occluders, queried with exact predicates.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -100,4 +101,33 @@ TEST(CliSpecular, LinearPicturesForScoringAsPfm) {
     const auto bad = bounce_run("reference cornell --image " + (dir / "x.png").string());
     EXPECT_EQ(bad.exit_code, 2);
     EXPECT_NE(bad.err.find("expected .pfm"), std::string::npos) << bad.err;
+}
+
+TEST(CliSpecular, AFurnaceWithAPerfectMirrorInsideShowsEOverOneMinusRho) {
+    // Walls emitting E = 1 with reflectance 0.5 and a perfect mirror ball inside: B = 2
+    // everywhere on the walls. Without photons the ball absorbs what the walls send it (8% of
+    // their power), and the picture is 8% dark; the photons give it back.
+    bounce::test::TempDir dir;
+    const auto scene = dir.write("furnace.json", R"({ "materials": {
+        "wall": { "reflectance": 0.5, "emission": 1 }, "mirror": { "kind": "mirror", "reflectance": 1 } },
+      "objects": [ { "type": "box", "material": "wall", "inward": true, "transform": { "scale": 4 } },
+                   { "type": "sphere", "material": "mirror", "transform": { "scale": 0.8, "translate": [0, -1, 0] } } ] })");
+    auto mean_b = [&](const std::string& extra) {
+        const auto pfm = dir / "f.pfm";
+        const auto r =
+            bounce_run("render " + scene.string() + " -o " + pfm.string() +
+                       " --size 24x24 --samples 4 --camera 0,1.5,1.9:0,-1,-1.9 --fov 60 --patches 600 --quiet" + extra);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        const std::string bytes = slurp(pfm);
+        const std::size_t head = bytes.size() - 24 * 24 * 3 * 4;
+        double sum = 0;
+        for (std::size_t k = 0; k < 24 * 24; ++k) {
+            float g;
+            std::memcpy(&g, bytes.data() + head + 12 * k + 4, 4);
+            sum += double(g) * 3.141592653589793;
+        }
+        return sum / (24 * 24);
+    };
+    EXPECT_NEAR(mean_b(""), 2.0, 0.02);
+    EXPECT_LT(mean_b(" --photons 0"), 1.9);
 }
