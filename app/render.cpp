@@ -51,8 +51,13 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
     }
     Scene scene;
     PatchMesh mesh = load_and_mesh(o, r.input, scene);
-    if (!interactive && (scene.has_specular() || r.two_pass.ray_trace || linear))
+    if (!interactive && (scene.has_specular() || r.two_pass.ray_trace || linear)) {
+        // Eye rays show what a camera sees: no patch colours, edges or colour bar.
+        if (!r.render.smooth || r.render.luminance || r.render.edges)
+            throw InputError(r.input + ": --flat, --luminance and --edges draw a solution's patches (a .vtu, or a " +
+                             "scene without mirrors or glass), not the eye rays' picture");
         return run_two_pass_render(o, scene, mesh, r.output, r.render, r.two_pass);
+    }
     const auto visibility = make_visibility(o.visibility, mesh.patches(), specular_occluders(scene));
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
     const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();

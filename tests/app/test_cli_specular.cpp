@@ -74,6 +74,10 @@ TEST(CliSpecular, BadSpecularInputIsOneLineAndExitTwo) {
     EXPECT_NE(r.err.find("bad.json: material 'g': index of refraction"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+    const auto colours = bounce_run("render cornell-spheres --luminance --patches 200 -o " + (dir / "l.png").string());
+    EXPECT_EQ(colours.exit_code, 2);
+    EXPECT_NE(colours.err.find("not the eye rays' picture"), std::string::npos) << colours.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "l.png"));
     const auto singular = dir.write("flat.json", R"({"materials": {"m": {"kind": "mirror"}},
         "objects": [{"type": "sphere", "material": "m", "transform": {"scale": [1, 1, 0]}}]})");
     const auto s = bounce_run("solve " + singular.string() + " -o " + (dir / "x.vtu").string());
