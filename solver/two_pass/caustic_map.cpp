@@ -189,7 +189,13 @@ Rgb CausticMap::radiance(const glm::dvec3& x, const glm::dvec3& n, const Rgb& rh
     // its list sorted by insertion, several times slower at k = 64).
     thread_local std::vector<std::pair<std::size_t, double>> found;
     found.clear();
-    m_tree->index.radiusSearch(query, r * r, found, nanoflann::SearchParams(32, 0.0, false));
+    // Dense caustics hold the nearest photons well inside the largest radius: a search a
+    // quarter as wide (a sixteenth of the photons to sort) finds them there first.
+    if (m_nearest > 0) {
+        m_tree->index.radiusSearch(query, r * r / 16, found, nanoflann::SearchParams(32, 0.0, false));
+        if (found.size() < m_nearest) found.clear();
+    }
+    if (found.empty()) m_tree->index.radiusSearch(query, r * r, found, nanoflann::SearchParams(32, 0.0, false));
     if (m_nearest > 0 && found.size() > m_nearest) {
         const auto kth = found.begin() + std::ptrdiff_t(m_nearest - 1);
         std::nth_element(found.begin(), kth, found.end(),
