@@ -58,6 +58,9 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
                              "scene without mirrors or glass), not the eye rays' picture");
         return run_two_pass_render(o, scene, mesh, r.output, r.render, r.two_pass);
     }
+    if (scene.has_specular() && !o.quiet)
+        std::cerr << "bounce: note: " << r.input << ": the window shows the diffuse patches, without the light that "
+                  << "mirrors and glass redirect; bounce render " << r.input << " -o PICTURE.png draws them\n";
     const auto visibility = make_visibility(o.visibility, mesh.patches(), specular_occluders(scene));
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
     const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
