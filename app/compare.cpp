@@ -145,7 +145,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
     const auto& P = mesh.patches();
-    const auto visibility = make_visibility(o.visibility, P);
+    const auto visibility = make_visibility(o.visibility, P, specular_occluders(scene));
     AdaptiveOptions a;
     a.form_factors = c.ff;
     a.max_elements = 200000;
@@ -166,7 +166,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
         gathered = false;
         if (c.gather != "none" && double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs) {
             const auto t0 = std::chrono::steady_clock::now();  // the gather's visibility counted too
-            const auto v = make_visibility(o.visibility, m.patches());
+            const auto v = make_visibility(o.visibility, m.patches(), specular_occluders(scene));
             gathered = gather_point_values(m, *v, r, "vertices", true);
             seconds += seconds_since(t0);
         }
@@ -233,7 +233,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
             m.target_patches = n;
             m.max_area = m.max_edge = 0;
             const PatchMesh um(scene, m);
-            const auto uv = make_visibility(o.visibility, um.patches());
+            const auto uv = make_visibility(o.visibility, um.patches(), specular_occluders(scene));
             const auto ff = make_form_factor_estimator("raycast", um.patches(), uv.get(), c.ff);
             SolverOptions so;
             so.cancel = &g_interrupted;
@@ -427,7 +427,7 @@ int run_compare(const CommonOptions& o, const CompareCommand& c) {
     for (const auto& m : c.methods) check_form_factor_memory(o, m, c.ff);
     check_memory(o, "the form-factor matrices and the reference (" + std::to_string(P.size()) + " patches)",
                  n * n * (4.0 * double(c.methods.size()) + (P.size() <= c.max_direct ? 8.0 : 0.0)));
-    const auto visibility = make_visibility(o.visibility, P);
+    const auto visibility = make_visibility(o.visibility, P, specular_occluders(scene));
     std::vector<std::unique_ptr<FormFactorEstimator>> estimators;
     std::vector<FormFactorMatrix> matrices;
     for (const auto& m : c.methods) {

@@ -41,7 +41,7 @@ int run_form_factors(const CommonOptions& o, const FormFactorCommand& c) {
     const std::size_t n = P.size();
     check_form_factor_memory(o, c.method, c.ff);
     check_memory(o, "the form-factor matrix (" + std::to_string(n) + " patches)", double(n) * double(n) * 4);
-    const auto visibility = make_visibility(o.visibility, P);
+    const auto visibility = make_visibility(o.visibility, P, specular_occluders(scene));
     const auto ff = make_form_factor_estimator(c.method, P, visibility.get(), c.ff);
     ProgressLine progress(!o.quiet);
     const auto F = FormFactorMatrix::build(

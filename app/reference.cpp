@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "app/command.h"
+#include "app/reference_image.h"
 #include "app/reference_points.h"
 #include "app/signals.h"
 #include "mesh/input_error.h"
@@ -27,9 +28,17 @@ struct ReferenceCommand {
     std::string output = "reference.csv";
     ReferenceOptions options;
     bool skip_missing = false;
+    ReferenceImageOptions image;  // --image: a path-traced picture instead (app/reference_image.h)
 };
 
 int run_reference(const CommonOptions& o, const ReferenceCommand& r) {
+    if (!r.image.output.empty()) {
+        if (!r.points.empty() || r.probes > 0)
+            throw InputError("reference: --image does not combine with --points or --probes");
+        ReferenceImageOptions image = r.image;
+        image.seed = r.options.seed;
+        return run_reference_image(o, image);
+    }
     if (r.points.empty() == (r.probes == 0))
         throw InputError("reference: give exactly one of --points FILE.csv or --probes N");
     check_output(r.output);
@@ -129,6 +138,20 @@ Command add_reference_command(CLI::App& app, CommonOptions& common) {
                   "leave rows with no surface near them empty (status=missing) instead of stopping");
     cmd->add_option("--threads", common.threads, "worker threads (0: all cores)")->capture_default_str();
     cmd->add_flag("-q,--quiet", common.quiet, "no progress and no summary");
+    cmd->add_option("--image", r->image.output,
+                    "instead of points: a path-traced picture OUT.pfm (linear radiance) through render's camera, "
+                    "and its standard error per pixel in OUT_se.pfm");
+    cmd->add_option("--paths", r->image.paths, "--image: paths per pixel, whole batches of 64")
+        ->capture_default_str()
+        ->check(in_range(std::uint64_t(64), std::uint64_t(1) << 30));
+    auto& cam = r->image.camera;
+    cam.width = cam.height = 256;
+    cmd->add_option("--camera", cam.camera, "--image: the camera, as render's (cornell, auto or x,y,z:tx,ty,tz)");
+    cmd->add_option("--fov", cam.fov, "--image: vertical field of view in degrees, as render's");
+    cmd->add_option(
+        "--size",
+        [&cam](const CLI::results_t& v) { return std::sscanf(v[0].c_str(), "%dx%d", &cam.width, &cam.height) == 2; },
+        "--image: picture size WxH (256x256)");
     return {cmd, [&common, r] { return run_reference(common, *r); }};
 }
 

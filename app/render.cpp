@@ -22,9 +22,14 @@ bool is_vtu(const std::string& p) { return std::filesystem::path(p).extension() 
 }  // namespace
 
 int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive) {
+    // A .pfm holds linear radiance: only eye rays make one.
+    const bool linear = !interactive && std::filesystem::path(r.output).extension() == ".pfm";
     if (!interactive) {
         check_output(r.output);
-        check_picture_path(r.output);
+        if (!linear) check_picture_path(r.output);
+        if (linear && is_vtu(r.input))
+            throw InputError(r.output +
+                             ": a .pfm (linear radiance) is drawn by eye rays from a scene, not from a .vtu");
     }
     // A window nobody can see never closes: without a display, say so at once (exit 2)
     // instead of opening it on a private Xvfb. With --exit-after (demos, tests) it closes by
@@ -46,7 +51,17 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
     }
     Scene scene;
     PatchMesh mesh = load_and_mesh(o, r.input, scene);
-    const auto visibility = make_visibility(o.visibility, mesh.patches());
+    if (!interactive && (scene.has_specular() || r.two_pass.ray_trace || linear)) {
+        // Eye rays show what a camera sees: no patch colours, edges or colour bar.
+        if (!r.render.smooth || r.render.luminance || r.render.edges)
+            throw InputError(r.input + ": --flat, --luminance and --edges draw a solution's patches (a .vtu, or a " +
+                             "scene without mirrors or glass), not the eye rays' picture");
+        return run_two_pass_render(o, scene, mesh, r.output, r.render, r.two_pass);
+    }
+    if (scene.has_specular() && !o.quiet)
+        std::cerr << "bounce: note: " << r.input << ": the window shows the diffuse patches, without the light that "
+                  << "mirrors and glass redirect; bounce render " << r.input << " -o PICTURE.png draws them\n";
+    const auto visibility = make_visibility(o.visibility, mesh.patches(), specular_occluders(scene));
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
     const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
     interactive ? view_solution(mesh, res, {r.input, "", false, scene.units}, r.render, r.exit_after)
@@ -57,10 +72,16 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
 
 Command add_render_command(CLI::App& app, CommonOptions& common) {
     auto rc = std::make_shared<RenderCommand>();
-    auto* render_cmd = app.add_subcommand("render", "render a .vtu (or a scene, solved first) to a PNG or JPEG");
+    auto* render_cmd = app.add_subcommand(
+        "render",
+        "render a .vtu (or a scene, solved first; by eye rays when it has mirrors or glass) to a PNG or JPEG");
     render_cmd->add_option("input", rc->input, "IN.vtu, or a scene")->required();
-    render_cmd->add_option("-o,--output", rc->output, "output picture: .png, or .jpg/.jpeg for JPEG")->required();
+    render_cmd
+        ->add_option("-o,--output", rc->output,
+                     "output picture: .png, .jpg/.jpeg for JPEG, or .pfm for linear radiance (eye rays)")
+        ->required();
     add_render_options(render_cmd, rc->render);
+    add_two_pass_options(render_cmd, rc->two_pass);
     add_meshing_options_no_scene(render_cmd, common);
     return {render_cmd, [&common, rc] { return run_render(common, *rc, false); }};
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/common_options.h"
+#include "app/two_pass_render.h"
 #include "viewer/renderer.h"
 
 namespace bounce::app {
@@ -15,9 +16,12 @@ struct RenderCommand {
     std::string output;
     RenderOptions render;
     double exit_after = 0.0;
+    TwoPassOptions two_pass;  // render only: eye rays for scenes with mirrors or glass, or --ray-trace
 };
 
-/// IN.vtu is rendered as it is; anything else is a scene, solved first with the defaults.
+/// IN.vtu is rendered as it is; anything else is a scene, solved first with the defaults. A
+/// scene with mirrors or glass (or any scene with --ray-trace) is drawn by the two-pass method
+/// (app/two_pass_render.h); `view` shows its diffuse patches only.
 /// interactive: a window (view) instead of the PNG r.output (render).
 int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive);
 

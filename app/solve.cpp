@@ -116,7 +116,7 @@ int run_solve_elements(const CommonOptions& o, const SolveCommand& s, const std:
     Scene scene;
     const PatchMesh mesh = load_and_mesh(roots, o.scene, scene);
     const auto start = std::chrono::steady_clock::now();
-    const auto visibility = make_visibility(o.visibility, mesh.patches());
+    const auto visibility = make_visibility(o.visibility, mesh.patches(), specular_occluders(scene));
     ProgressLine progress(!o.quiet);
     SolveResult res;
     std::optional<PatchMesh> elements;
@@ -242,7 +242,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         check_memory(o, "the form-factor matrix (" + std::to_string(P.size()) + " patches)", n * n * 4);
     if (s.solver == "direct") check_memory(o, "the direct solver (matrix and LU factors)", n * n * 12);
     const auto start = std::chrono::steady_clock::now();
-    const auto visibility = make_visibility(o.visibility, P);
+    const auto visibility = make_visibility(o.visibility, P, specular_occluders(scene));
     const auto ff = elements ? std::make_unique<PatchToElementFormFactor>(
                                    shooters->patches(), P, s.method == "analytic" ? nullptr : visibility.get(), s.ff)
                              : make_form_factor_estimator(s.method, P, visibility.get(), s.ff);

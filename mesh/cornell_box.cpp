@@ -25,9 +25,8 @@ std::vector<V> facing_away(std::vector<V> poly, const V& from) {
     return facing(std::move(poly), c + (c - from));
 }
 
-}  // namespace
-
-Scene make_cornell_box() {
+/// The box without its blocks: walls, floor, ceiling and light.
+Scene cornell_room() {
     Scene s;
     s.name = "cornell";
     s.units = "mm";
@@ -59,6 +58,17 @@ Scene make_cornell_box() {
                         V(278, 0, 279.5)),
         Light);
 
+    return s;
+}
+
+}  // namespace
+
+Scene make_cornell_box() {
+    Scene s = cornell_room();
+    enum { White };
+    auto add = [&](std::string object, std::vector<V> poly, int mat) {
+        s.surfaces.push_back({std::move(poly), mat, object, {"cornell box: " + object, 0}});
+    };
     auto block = [&](const std::string& name, const std::vector<V>& top) {
         V centre(0.0);
         for (const auto& p : top) centre += p;
@@ -73,6 +83,21 @@ Scene make_cornell_box() {
     };
     block("short block", {{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}});
     block("tall block", {{423, 330, 247}, {265, 330, 296}, {314, 330, 456}, {472, 330, 406}});
+    return s;
+}
+
+Scene make_cornell_spheres_box() {
+    Scene s = cornell_room();
+    s.name = "cornell-spheres";
+    s.materials.push_back({"mirror", Rgb(), Rgb(), MaterialKind::mirror, Rgb::gray(kCornellSpheres.mirror_reflectance)});
+    s.materials.push_back({"glass", Rgb(), Rgb(), MaterialKind::glass, Rgb::gray(1.0), kCornellSpheres.glass_ior});
+    const int mirror = int(s.materials.size()) - 2, glass = int(s.materials.size()) - 1;
+    const double r = kCornellSpheres.radius;
+    // Resting on the floor (y = 0): centres one radius up.
+    s.spheres.push_back({Transform::translate(kCornellSpheres.mirror_centre) * Transform::scale(V(r)), mirror,
+                         "mirror sphere", {"cornell-spheres box: mirror sphere", 0}});
+    s.spheres.push_back({Transform::translate(kCornellSpheres.glass_centre) * Transform::scale(V(r)), glass,
+                         "glass sphere", {"cornell-spheres box: glass sphere", 0}});
     return s;
 }
 

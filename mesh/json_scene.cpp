@@ -12,6 +12,7 @@
 
 #include "mesh/input_error.h"
 #include "mesh/obj_reader.h"
+#include "mesh/sphere.h"
 #include "mesh/text_file.h"
 #include "mesh/transform.h"
 
@@ -153,10 +154,37 @@ Scene read_json_scene(const std::filesystem::path& path) {
         if (!doc["materials"].is_object()) top.fail("'materials' must be an object of named materials");
         for (auto it = doc["materials"].begin(); it != doc["materials"].end(); ++it) {
             Context cx{path.string() + ": material '" + it.key() + "'"};
-            cx.only_keys(it.value(), {"reflectance", "emission"});
             Material m{it.key(), Rgb::gray(0.5), Rgb()};
-            if (it->contains("reflectance")) m.reflectance = cx.rgb((*it)["reflectance"], "reflectance");
-            if (it->contains("emission")) m.emission = cx.rgb((*it)["emission"], "emission");
+            const std::string kind = it->is_object() && it->contains("kind") && (*it)["kind"].is_string()
+                                         ? (*it)["kind"].get<std::string>()
+                                         : "diffuse";
+            if (kind == "diffuse") {
+                cx.only_keys(it.value(), {"kind", "reflectance", "emission"});
+                if (it->contains("reflectance")) m.reflectance = cx.rgb((*it)["reflectance"], "reflectance");
+                if (it->contains("emission")) m.emission = cx.rgb((*it)["emission"], "emission");
+            } else if (kind == "mirror") {
+                // An ideal mirror: reflectance per channel, 1 unless given.
+                cx.only_keys(it.value(), {"kind", "reflectance"});
+                m.kind = MaterialKind::mirror;
+                m.reflectance = Rgb();
+                m.specular = it->contains("reflectance") ? cx.rgb((*it)["reflectance"], "reflectance") : Rgb::gray(1);
+                if (m.specular.min() < 0 || m.specular.max() > 1)
+                    cx.fail("mirror reflectance out of range, got " + m.specular.to_string() +
+                            " (expected 0 to 1 per channel)");
+            } else if (kind == "glass") {
+                // A dielectric: index of refraction (1.5 unless given) and transmittance colour (1).
+                cx.only_keys(it.value(), {"kind", "ior", "transmittance"});
+                m.kind = MaterialKind::glass;
+                m.reflectance = Rgb();
+                if (it->contains("ior")) m.ior = cx.number((*it)["ior"], "ior");
+                if (it->contains("transmittance")) m.specular = cx.rgb((*it)["transmittance"], "transmittance");
+                if (!(m.ior >= 1)) cx.fail("index of refraction 'ior' out of range, got " + number_text(m.ior) + " (expected >= 1)");
+                if (m.specular.min() < 0 || m.specular.max() > 1)
+                    cx.fail("glass transmittance out of range, got " + m.specular.to_string() +
+                            " (expected 0 to 1 per channel)");
+            } else {
+                cx.fail("unknown kind '" + kind + "' (expected diffuse, mirror or glass)");
+            }
             if (m.reflectance.min() < 0 || m.reflectance.max() > 1)
                 cx.fail("reflectance out of range, got " + m.reflectance.to_string() + " (expected 0 to 1 per channel)");
             if (m.emission.min() < 0)
@@ -172,7 +200,7 @@ Scene read_json_scene(const std::filesystem::path& path) {
         const json& o = objects[k];
         Context cx{path.string() + ": objects[" + std::to_string(k) + "]"};
         cx.only_keys(o, {"type", "file", "material", "transform", "flip", "inward", "name"});
-        if (!o.contains("type") || !o["type"].is_string()) cx.fail("needs a 'type' (quad, box or mesh)");
+        if (!o.contains("type") || !o["type"].is_string()) cx.fail("needs a 'type' (quad, box, sphere or mesh)");
         const std::string type = o["type"];
         const std::string name = o.contains("name") && o["name"].is_string() ? o["name"].get<std::string>()
                                                                                 : type + " " + std::to_string(k);
@@ -195,7 +223,19 @@ Scene read_json_scene(const std::filesystem::path& path) {
         }
 
         std::vector<Surface> surfaces;
-        if (type == "quad" || type == "box") {
+        if (type == "sphere") {
+            if (o.contains("file")) cx.fail("'file' belongs to type mesh");
+            if (o.contains("flip")) cx.fail("'flip' does not apply to spheres (their front is the outside)");
+            const std::string where = o.contains("name") ? cx.where + " (sphere)" : cx.where;
+            if (material >= 0 && scene.materials[std::size_t(material)].is_specular()) {
+                // Mirror and glass spheres stay analytic: the path tracer and the eye pass
+                // intersect them exactly.
+                scene.spheres.push_back({t, material, name, {where, 0}});
+                continue;
+            }
+            // A diffuse sphere is meshed like any surface: its inscribed 32 x 16 polyhedron.
+            for (auto& poly : tessellate_sphere(Transform(), 32, 16)) surfaces.push_back({poly, material, name, {where, 0}});
+        } else if (type == "quad" || type == "box") {
             if (o.contains("file")) cx.fail("'file' belongs to type mesh");
             // "objects[2] (box 2)" unnamed, "objects[3] (quad) (east wall)" named: the type once.
             const std::string where = o.contains("name") ? cx.where + " (" + type + ")" : cx.where;
@@ -216,6 +256,7 @@ Scene read_json_scene(const std::filesystem::path& path) {
                 const int base = int(scene.materials.size());
                 for (auto& m : sub.materials) scene.materials.push_back(m);
                 for (auto& w : sub.warnings) scene.warnings.push_back(w);
+                for (auto& s : sub.specular_surfaces) sub.surfaces.push_back(std::move(s));
                 for (auto& s : sub.surfaces) {
                     s.material = material >= 0 ? material : base + s.material;
                     // Named by the JSON object (and the OBJ's own object, when it names one)
@@ -230,7 +271,7 @@ Scene read_json_scene(const std::filesystem::path& path) {
                 cx.fail("mesh file " + file.string() + " is not .obj, .ply or .off");
             }
         } else {
-            cx.fail("unknown type '" + type + "' (expected quad, box or mesh)");
+            cx.fail("unknown type '" + type + "' (expected quad, box, sphere or mesh)");
         }
         for (auto& s : surfaces) {
             if (s.material < 0) {
@@ -245,7 +286,8 @@ Scene read_json_scene(const std::filesystem::path& path) {
             // A mirroring transform reverses the winding; reverse it back so the front stays
             // the side the inverse-transpose normal points to.
             if (t.flips_orientation() != flip) std::reverse(s.vertices.begin(), s.vertices.end());
-            scene.surfaces.push_back(std::move(s));
+            (scene.materials[std::size_t(s.material)].is_specular() ? scene.specular_surfaces : scene.surfaces)
+                .push_back(std::move(s));
         }
     }
     return scene;

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "mesh/input_error.h"
 #include "mesh/text_file.h"
@@ -39,20 +40,79 @@ Rgb parse_rgb(const std::vector<std::string_view>& w, const std::string& where) 
     return c;
 }
 
+/// The statements of one MTL material that choose its kind, read in any order and applied at
+/// its end (finish_material).
+struct MtlStatements {
+    int illum = -1;  // -1: not given
+    std::optional<Rgb> ks, tf;
+    std::optional<double> ni;
+    std::string where;  // "file.mtl:12" of its newmtl
+};
+
+/// The illumination models of the MTL specification that bounce can follow:
+///   illum 0, 1, 2 (colour, ambient, highlight): diffuse, Kd (Ks, the highlight, is ignored);
+///   illum 3 (reflection, ray trace on) and 5 (reflection with Fresnel, ray trace on): a
+///     mirror of reflectance Ks at every angle. Illum 5's Fresnel would need a metal's complex
+///     index, which MTL does not carry, so both take Ks as it is;
+///   illum 6 (refraction, Fresnel off) and 7 (refraction, Fresnel on): glass of index Ni
+///     (1.5 when not given, with a warning) and transmittance colour Tf (1 when not given).
+///     bounce always applies the exact Fresnel equations for a dielectric, so 6 is read as 7;
+///   illum 4, 8, 9, 10 (transparency or reflection without refraction, shadow tricks): not
+///     modelled; diffuse from Kd, with a warning.
+/// Kd is ignored for mirror and glass; Ke on them is an error (they do not emit).
+void finish_material(Material& m, const MtlStatements& st, Scene& scene) {
+    if (st.illum == 3 || st.illum == 5) {
+        if (!st.ks) throw InputError(st.where + ": material '" + m.name + "' is a mirror (illum " +
+                                     std::to_string(st.illum) + ") but gives no Ks (its reflectance)");
+        m.kind = MaterialKind::mirror;
+        m.specular = *st.ks;
+        m.reflectance = Rgb();
+    } else if (st.illum == 6 || st.illum == 7) {
+        m.kind = MaterialKind::glass;
+        m.reflectance = Rgb();
+        m.specular = st.tf.value_or(Rgb::gray(1.0));
+        if (st.ni) {
+            m.ior = *st.ni;
+        } else {
+            m.ior = 1.5;
+            scene.warnings.push_back(st.where + ": material '" + m.name + "' is glass (illum " +
+                                     std::to_string(st.illum) + ") but gives no Ni; using 1.5");
+        }
+    } else if (st.illum == 4 || st.illum >= 8) {
+        scene.warnings.push_back(st.where + ": material '" + m.name + "': illum " + std::to_string(st.illum) +
+                                 " is not modelled (mirror is illum 3 or 5, glass 6 or 7); diffuse from Kd");
+    }
+    if (!m.is_specular()) return;
+    const std::string what = m.kind == MaterialKind::mirror ? "mirror reflectance Ks" : "glass transmittance Tf";
+    if (m.specular.min() < 0.0 || m.specular.max() > 1.0)
+        throw InputError(st.where + ": material '" + m.name + "': " + what + " out of range, got " +
+                         m.specular.to_string() + " (expected 0 to 1 per channel)");
+    if (!(m.ior >= 1.0))
+        throw InputError(st.where + ": material '" + m.name + "': index of refraction Ni out of range, got " +
+                         number_text(m.ior) + " (expected >= 1)");
+    if (m.emission.max() > 0.0)
+        throw InputError(st.where + ": material '" + m.name + "': a " + to_string(m.kind) +
+                         " does not emit, got Ke " + m.emission.to_string());
+}
+
 void read_mtl(const std::filesystem::path& path, Scene& scene, std::map<std::string, int>& byname) {
     Lines in{read_text_file(path, "MTL file")};
     std::string_view line;
     int current = -1;
+    MtlStatements statements;
     while (in.next(line)) {
         const auto w = split_words(line);
         if (w.empty()) continue;
         const std::string where = path.string() + ":" + std::to_string(in.number);
         if (w[0] == "newmtl") {
             if (w.size() < 2) throw InputError(where + ": newmtl without a name");
+            if (current >= 0) finish_material(scene.materials[std::size_t(current)], statements, scene);
             const std::string name(w[1]);
             scene.materials.push_back({name, Rgb::gray(0.5), Rgb()});
             current = int(scene.materials.size()) - 1;
             byname[name] = current;
+            statements = MtlStatements{};
+            statements.where = where;
         } else if (w[0] == "Kd" || w[0] == "Ke") {
             if (current < 0) throw InputError(where + ": " + std::string(w[0]) + " before newmtl");
             const Rgb c = parse_rgb(w, where);
@@ -67,9 +127,28 @@ void read_mtl(const std::filesystem::path& path, Scene& scene, std::map<std::str
                                      " (expected >= 0 per channel)");
                 scene.materials[current].emission = c;
             }
+        } else if (w[0] == "Ks" || w[0] == "Tf") {
+            if (current < 0) throw InputError(where + ": " + std::string(w[0]) + " before newmtl");
+            // Tf may be written "Tf xyz ..." or as a spectral file: only RGB is read.
+            if (w.size() >= 2 && (w[1] == "xyz" || w[1] == "spectral")) continue;
+            (w[0] == "Ks" ? statements.ks : statements.tf) = parse_rgb(w, where);
+        } else if (w[0] == "Ni" || w[0] == "illum") {
+            if (current < 0) throw InputError(where + ": " + std::string(w[0]) + " before newmtl");
+            double v = 0;
+            if (w.size() != 2 || !parse_double(w[1], v) || !std::isfinite(v))
+                throw InputError(where + ": " + std::string(w[0]) + " needs one number");
+            if (w[0] == "Ni") {
+                statements.ni = v;
+            } else {
+                if (v != std::floor(v) || v < 0 || v > 10)
+                    throw InputError(where + ": illum out of range, got " + std::string(w[1]) +
+                                     " (expected a whole number 0 to 10)");
+                statements.illum = int(v);
+            }
         }
-        // Other statements (Ka, Ks, Ns, Ni, d, illum, maps) do not enter diffuse radiosity.
+        // Other statements (Ka, Ns, d, maps) do not enter the light transport bounce models.
     }
+    if (current >= 0) finish_material(scene.materials[std::size_t(current)], statements, scene);
 }
 
 }  // namespace
@@ -128,7 +207,8 @@ Scene read_obj(const std::filesystem::path& path, bool own_materials) {
             } else {
                 s.material = current;
             }
-            scene.surfaces.push_back(std::move(s));
+            const bool specular = s.material >= 0 && scene.materials[std::size_t(s.material)].is_specular();
+            (specular ? scene.specular_surfaces : scene.surfaces).push_back(std::move(s));
         } else if (key == "o" || key == "g") {
             object = w.size() > 1 ? std::string(w[1]) : "default";
         } else if (key == "usemtl" && own_materials) {

@@ -14,6 +14,18 @@ std::string Rgb::to_string() const {
     return s.str();
 }
 
+std::string to_string(MaterialKind kind) {
+    switch (kind) {
+        case MaterialKind::diffuse:
+            return "diffuse";
+        case MaterialKind::mirror:
+            return "mirror";
+        case MaterialKind::glass:
+            return "glass";
+    }
+    return "?";
+}
+
 std::string SourceLocation::to_string() const {
     if (line > 0) return file + ":" + std::to_string(line);
     return file;
@@ -34,6 +46,20 @@ std::string length_text(double value, const std::string& units) {
 
 void Scene::validate() const {
     for (const auto& m : materials) {
+        if (m.is_specular()) {
+            const std::string what = m.kind == MaterialKind::mirror ? "mirror reflectance" : "glass transmittance";
+            for (int c = 0; c < 3; ++c)
+                if (!std::isfinite(m.specular[c]) || m.specular[c] < 0.0 || m.specular[c] > 1.0)
+                    throw InputError("material '" + m.name + "': " + what + " out of range, got " +
+                                     m.specular.to_string() + " (expected 0 to 1 per channel)");
+            if (m.kind == MaterialKind::glass && !(std::isfinite(m.ior) && m.ior >= 1.0))
+                throw InputError("material '" + m.name + "': index of refraction out of range, got " +
+                                 number_text(m.ior) + " (expected >= 1)");
+            if (m.emission.max() != 0.0 || m.emission.min() != 0.0)
+                throw InputError("material '" + m.name + "': a " + to_string(m.kind) + " does not emit, got emission " +
+                                 m.emission.to_string());
+            continue;
+        }
         for (int c = 0; c < 3; ++c) {
             const double rho = m.reflectance[c], e = m.emission[c];
             if (!std::isfinite(rho) || rho < 0.0 || rho > 1.0)
@@ -50,6 +76,30 @@ void Scene::validate() const {
                 throw InputError(s.where.to_string() + ": face has a NaN or infinite coordinate");
         if (s.material < 0 || s.material >= int(materials.size()))
             throw InputError(s.where.to_string() + ": face has no valid material");
+        if (materials[std::size_t(s.material)].is_specular())
+            throw InputError(s.where.to_string() + ": a diffuse surface has the " +
+                             to_string(materials[std::size_t(s.material)].kind) + " material '" +
+                             materials[std::size_t(s.material)].name + "'");
+    }
+    for (const auto& s : specular_surfaces) {
+        for (const auto& v : s.vertices)
+            if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+                throw InputError(s.where.to_string() + ": face has a NaN or infinite coordinate");
+        if (s.material < 0 || s.material >= int(materials.size()) ||
+            !materials[std::size_t(s.material)].is_specular())
+            throw InputError(s.where.to_string() + ": a specular face has no mirror or glass material");
+    }
+    for (const auto& s : spheres) {
+        const std::string where = describe(s.where, s.object);
+        if (!s.transform.is_invertible())
+            throw InputError(where + ": sphere transform is singular (flattens the sphere)");
+        const auto& m = s.transform.matrix();
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+                if (!std::isfinite(m[c][r])) throw InputError(where + ": sphere transform is not finite");
+        if (s.material < 0 || s.material >= int(materials.size()) ||
+            !materials[std::size_t(s.material)].is_specular())
+            throw InputError(where + ": a sphere must be of a mirror or glass material");
     }
 }
 

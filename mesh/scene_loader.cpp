@@ -23,6 +23,8 @@ Scene read_scene(const std::string& spec) {
     Scene scene;
     if (spec == "cornell") {
         scene = make_cornell_box();
+    } else if (spec == "cornell-spheres") {
+        scene = make_cornell_spheres_box();
     } else {
         std::string ext = std::filesystem::path(spec).extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -34,7 +36,7 @@ Scene read_scene(const std::string& spec) {
             scene = read_mesh_scene(spec);
         } else {
             throw InputError(spec + ": unknown scene type, got '" + ext +
-                             "' (expected 'cornell', .obj, .json, .ply or .off)");
+                             "' (expected 'cornell', 'cornell-spheres', .obj, .json, .ply or .off)");
         }
     }
     scene.validate();

@@ -22,6 +22,15 @@ Transform Transform::rotate(double degrees, const glm::dvec3& axis) {
 
 glm::dvec3 Transform::point(const glm::dvec3& p) const { return glm::dvec3(m_m * glm::dvec4(p, 1.0)); }
 
+glm::dvec3 Transform::vector(const glm::dvec3& v) const { return glm::dmat3(m_m) * v; }
+
+// The inverse of the linear part is the transpose of the stored inverse transpose.
+glm::dvec3 Transform::inverse_vector(const glm::dvec3& v) const { return glm::transpose(m_normal) * v; }
+
+glm::dvec3 Transform::inverse_point(const glm::dvec3& p) const {
+    return inverse_vector(p - glm::dvec3(m_m[3]));
+}
+
 glm::dvec3 Transform::normal(const glm::dvec3& n) const { return glm::normalize(m_normal * n); }
 
 bool Transform::flips_orientation() const { return glm::determinant(glm::dmat3(m_m)) < 0.0; }

@@ -24,6 +24,12 @@ public:
     friend Transform operator*(const Transform& a, const Transform& b) { return Transform(a.m_m * b.m_m); }
 
     glm::dvec3 point(const glm::dvec3& p) const;
+    /// A direction (or offset) by the linear part of T: no translation.
+    glm::dvec3 vector(const glm::dvec3& v) const;
+    /// T^-1 p and the inverse linear part applied to v: a ray taken into the object's own
+    /// frame (its parameter t is unchanged when both origin and direction go this way).
+    glm::dvec3 inverse_point(const glm::dvec3& p) const;
+    glm::dvec3 inverse_vector(const glm::dvec3& v) const;
     /// Transformed unit normal: normalize((M^-1)^T n).
     glm::dvec3 normal(const glm::dvec3& n) const;
     /// A mirroring transform (det < 0) turns counter-clockwise faces clockwise; readers

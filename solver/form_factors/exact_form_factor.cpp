@@ -158,6 +158,9 @@ ExactFormFactor::ExactFormFactor(const std::vector<Patch>& patches, bool occlusi
       m_options(options) {
     if (!(options.exact_tolerance > 0) || !(options.visibility_tolerance > 0))
         throw std::invalid_argument("exact form factors: tolerances must be positive");
+    // Its shadows are the patches' own (clipped exactly); mirrors and glass are no patches.
+    if (occlusion && rays && rays->has_occluders())
+        throw std::invalid_argument("exact form factors do not see mirrors and glass (use raycast)");
 }
 
 ExactFormFactor::~ExactFormFactor() = default;

@@ -73,7 +73,8 @@ RaycastFormFactor::RaycastFormFactor(const std::vector<Patch>& patches, const Vi
       m_visibility(visibility),
       m_options(with_default_rays(options, kPatchPairRays)),
       m_unoccluded(patches, options.unoccluded_tolerance),
-      m_culler(visibility ? std::make_unique<ShaftCuller>(patches) : nullptr) {
+      // Mirrors and glass block rays without being patches: no shaft test over the patches.
+      m_culler(visibility && !visibility->has_occluders() ? std::make_unique<ShaftCuller>(patches) : nullptr) {
     if (m_options.visibility_rays < 1) throw std::invalid_argument("visibility rays must be at least 1");
     // (m_unoccluded has checked the tolerance.)
     if (options.receiver_samples < 0) throw std::invalid_argument("receiver samples must not be negative");
@@ -104,7 +105,7 @@ double RaycastFormFactor::traced_fraction(std::size_t i, std::size_t j, int ray_
     // Every plane of the scene beside the pair's shaft: wholly visible, and no ray can be
     // falsely blocked by rounding at a wall the rays start beside. (The full candidate search
     // costs more than the rays it saves in cluttered scenes; the plane test alone is cheap.)
-    if (m_culler->clear(lo, hi)) return 1.0;
+    if (m_culler && m_culler->clear(lo, hi)) return 1.0;
     const Patch& a = m_patches[lo];
     const Patch& b = m_patches[hi];
     const int m = ray_count;

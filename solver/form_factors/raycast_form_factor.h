@@ -69,7 +69,7 @@ private:
     const Visibility* m_visibility;
     FormFactorOptions m_options;
     UnoccludedFormFactor m_unoccluded;
-    std::unique_ptr<ShaftCuller> m_culler;  // with visibility only
+    std::unique_ptr<ShaftCuller> m_culler;  // with visibility that has no occluders only
 };
 
 /// Rows from patches to elements, for shooting with an ElementHierarchy: row i holds

@@ -125,7 +125,10 @@ struct LinkSources {
 /// tested here when those rays outweigh the scene's plane groups (ShaftCuller::kPlaneTestsPerRay).
 /// The 10k office has 3585 groups, where testing every link cost 24 s more than it spared (its
 /// hierarchical solve at 3e-6: 58 s -> 80 s), and the rule takes it to 55 s.
-LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links, const std::atomic<bool>* cancel) {
+/// With `occluders` (mirrors and glass, which are no patches) no shaft over the patches is
+/// proof, and links are not tested.
+LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links, const std::atomic<bool>* cancel,
+                         bool occluders) {
     const ElementTree& tree = sol.tree;
     const auto& G = tree.geometry();
     std::vector<std::uint32_t> leaves_under(tree.size(), 0);
@@ -151,7 +154,8 @@ LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links
             return;
         const double fba = double(l.fab) * G[l.a].area / G[l.b].area;
         const double spared = leaves_under[l.a] * rays_to(l.a, l.b, l.fab) + leaves_under[l.b] * rays_to(l.b, l.a, fba);
-        if (spared * ShaftCuller::kPlaneTestsPerRay >= planes) link_unblocked[k] = culler.unblocked(G[l.a], G[l.b]);
+        if (!occluders && spared * ShaftCuller::kPlaneTestsPerRay >= planes)
+            link_unblocked[k] = culler.unblocked(G[l.a], G[l.b]);
     });
     LinkSources out;
     out.unblocked.resize(links.link.size());
@@ -456,7 +460,7 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
     if (mode == "none") return GatherOutcome::not_asked;
     GatherPlan plan = gather_plan(solution, elements);
     if (plan.pairs > kMaxGatherPairs) return GatherOutcome::over_budget;
-    LinkSources sources = link_sources(solution, plan.links, cancel);
+    LinkSources sources = link_sources(solution, plan.links, cancel, visibility.has_occluders());
     if (cancel && cancel->load()) return GatherOutcome::interrupted;
     const GatherOptions options = point_value_options();
     std::vector<Rgb> centres;  // with a power epsilon: the leaves re-gathered first

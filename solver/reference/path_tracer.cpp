@@ -14,6 +14,8 @@
 #include <glm/geometric.hpp>
 
 #include "mesh/polygon.h"
+#include "mesh/sphere.h"
+#include "solver/optics/fresnel.h"
 
 namespace bounce {
 
@@ -38,6 +40,9 @@ constexpr int kStratifiedEmitters = 8;             // first-vertex samples of fu
 // Russian roulette ends every path with probability >= 1 - max(rho) per bounce; only a closed
 // scene of reflectance exactly 1 could run on, and this cap stops it (a bias of rho^cap).
 constexpr int kMaxDepth = 100000;
+// Mirror and glass bounces between two diffuse vertices (or after the eye): light trapped by
+// total internal reflection in a non-spherical glass object is dropped after this many.
+constexpr int kMaxSpecularBounces = 1000;
 
 /// Uniform doubles in [0,1) from the standard 64-bit Mersenne twister.
 class Random {
@@ -119,6 +124,9 @@ struct PathTracer::Impl {
         glm::dvec3 origin{0.0};  // a vertex, for the plane
         double area = 0.0;
         Rgb reflectance, emission;
+        MaterialKind kind = MaterialKind::diffuse;
+        Rgb specular;      // mirror reflectance or glass transmittance per passage
+        double ior = 1.0;  // glass
         std::vector<std::array<int, 3>> triangles;
         std::vector<double> cumulative;  // running triangle areas, last = area
         double size = 0.0;               // sqrt(area)
@@ -128,7 +136,10 @@ struct PathTracer::Impl {
     RTCScene rtc_scene = nullptr;
     glm::dvec3 centre{0.0};
     double epsilon = 0.0;  // ray origin offset along the normal
+    // Scene::surfaces (diffuse) first, then Scene::specular_surfaces: surface index
+    // scene.surfaces.size() + k is specular_surfaces[k].
     std::vector<SurfaceData> surfaces;
+    std::vector<Sphere> spheres;        // analytic, intersected beside Embree's triangles
     std::vector<int> triangle_surface;  // Embree primitive -> surface
     std::vector<int> emitters;          // surfaces with emission
 
@@ -139,8 +150,32 @@ struct PathTracer::Impl {
 
     struct Hit {
         double t = 0;
-        int surface = -1;
+        int surface = -1;                                  // a polygon (index into surfaces), or
+        int sphere = -1;                                   // an analytic sphere (index into spheres)
+        glm::dvec3 sphere_point{0.0}, sphere_normal{0.0};  // on a sphere: the exact point, outward unit normal
+        bool missed() const { return surface < 0 && sphere < 0; }
     };
+
+    /// The polygon of surface s, diffuse or specular.
+    const std::vector<glm::dvec3>& polygon(const Scene& scene, int s) const {
+        const std::size_t n = scene.surfaces.size();
+        return std::size_t(s) < n ? scene.surfaces[std::size_t(s)].vertices
+                                  : scene.specular_surfaces[std::size_t(s) - n].vertices;
+    }
+
+    /// Closest hit of a polygon or a sphere along o + t d, t in (tnear, tfar). Spheres are
+    /// few in the scenes this serves (the seed's box has two), so they are tested one by one,
+    /// exactly, in double precision.
+    Hit trace_all(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) const {
+        Hit best = trace(o, d, tnear, tfar);
+        double t_max = best.missed() ? tfar : best.t;
+        for (std::size_t k = 0; k < spheres.size(); ++k)
+            if (const auto h = intersect_sphere(spheres[k], o, d, tnear, t_max)) {
+                best = {h->t, -1, int(k), h->position, h->normal};
+                t_max = h->t;
+            }
+        return best;
+    }
 
     /// Closest hit along o + t d, t in (tnear, tfar); surface -1 when nothing is hit.
     Hit trace(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) const {
@@ -179,7 +214,10 @@ struct PathTracer::Impl {
         ray.tfar = 1.0f;
         ray.mask = 0xFFFFFFFFu;
         rtcOccluded1(rtc_scene, &context, &ray);
-        return ray.tfar < 0.0f;
+        if (ray.tfar < 0.0f) return true;
+        for (const auto& sphere : spheres)
+            if (intersect_sphere(sphere, a, b - a, 1e-9, 1.0 - 1e-9)) return true;
+        return false;
     }
 
     /// A point of surface s, uniform by area, from (u1, u2) in [0,1)^2.
@@ -227,15 +265,143 @@ struct PathTracer::Impl {
         }
         return sum;
     }
+
+    /// Where a ray that leaves a diffuse point (or the eye) arrives after the mirrors and glass
+    /// it meets: a diffuse surface's front, or nothing (it escapes, meets a back face, or is
+    /// absorbed).
+    struct Arrival {
+        int surface = -1;               // the diffuse surface met; -1: the path ends
+        glm::dvec3 position{0.0};       // on that surface's plane
+        glm::dvec3 direction{0.0};      // of the last segment, unit
+        double distance = 0.0;          // length of the last segment
+        bool through_specular = false;  // a mirror or glass redirected the ray on the way
+    };
+
+    /// Follows o + t d through ideal specular surfaces. A mirror reflects from its front (its
+    /// back is black, like any one-sided face) and scales `throughput` by its reflectance.
+    /// Glass is a dielectric whose front is the outside: at each crossing the ray is reflected
+    /// with the Fresnel probability F (1 past the critical angle) and refracted otherwise, so
+    /// the estimator needs no weight for the choice (the expectation is F L_r + (1 - F) L_t);
+    /// entering, the throughput takes the transmittance colour. `uniform` draws in [0, 1).
+    template <class Uniform>
+    Arrival follow(const Scene& scene, glm::dvec3 o, glm::dvec3 d, Rgb& throughput, Uniform&& uniform) const {
+        Arrival out;
+        for (int bounce = 0; bounce <= kMaxSpecularBounces; ++bounce) {
+            const Hit hit = trace_all(o, d, 0.0, std::numeric_limits<float>::infinity());
+            if (hit.missed()) return {};
+            glm::dvec3 y, n;
+            MaterialKind kind;
+            Rgb specular;
+            double ior;
+            if (hit.sphere >= 0) {
+                const Material& m = scene.materials[std::size_t(spheres[std::size_t(hit.sphere)].material)];
+                y = hit.sphere_point;
+                n = hit.sphere_normal;
+                kind = m.kind;
+                specular = m.specular;
+                ior = m.ior;
+            } else {
+                const SurfaceData& sd = surfaces[std::size_t(hit.surface)];
+                if (glm::dot(sd.normal, d) >= 0 && sd.kind != MaterialKind::glass) return {};  // a back face: black
+                y = o + hit.t * d;
+                y -= glm::dot(y - sd.origin, sd.normal) * sd.normal;  // back onto the plane, exactly
+                if (sd.kind == MaterialKind::diffuse) {
+                    out.surface = hit.surface;
+                    out.position = y;
+                    out.direction = d;
+                    out.distance = hit.t;
+                    return out;
+                }
+                n = sd.normal;
+                kind = sd.kind;
+                specular = sd.specular;
+                ior = sd.ior;
+            }
+            out.through_specular = true;
+            const double cos_i = -glm::dot(d, n);
+            if (kind == MaterialKind::mirror) {
+                if (!(cos_i > 0)) return {};
+                throughput = throughput * specular;
+                d = glm::normalize(reflect(d, n));
+                o = y + epsilon * n;
+            } else {
+                const bool entering = cos_i > 0;
+                const glm::dvec3 facing = entering ? n : -n;  // the normal on the side d comes from
+                const double n1 = entering ? 1.0 : ior, n2 = entering ? ior : 1.0;
+                const double reflectance = fresnel_dielectric(std::abs(cos_i), n1, n2);
+                const auto refracted = refract(d, facing, n1, n2);
+                if (!refracted || uniform() < reflectance) {
+                    d = glm::normalize(reflect(d, facing));
+                    o = y + epsilon * facing;
+                } else {
+                    d = *refracted;
+                    o = y - epsilon * facing;
+                    if (entering) throughput = throughput * specular;
+                }
+            }
+            if (!(throughput.max() > 0)) return {};
+        }
+        return {};
+    }
+
+    /// One path's estimate of the radiosity reflected at the diffuse point (x, n) of surface
+    /// `surface`, starting with `throughput` (rho(x) for B(x)): next-event estimation at every
+    /// diffuse vertex, cosine-sampled continuation through mirrors and glass (follow), Russian
+    /// roulette on the reflectance. An emitter met through a mirror or glass counts whole: the
+    /// area sample cannot reach it that way, so its balance-heuristic share is 1.
+    /// `first_emitter(k)` and `first_direction()` give the first vertex's samples (stratified by
+    /// the caller); later vertices draw from rng.
+    template <class Rng, class FirstEmitter, class FirstDirection>
+    Rgb reflected(const Scene& scene, glm::dvec3 pos, glm::dvec3 normal, int surface, Rgb throughput, Rng& rng,
+                  FirstEmitter&& first_emitter, FirstDirection&& first_direction) const {
+        Rgb sum;
+        auto random_pair = [&](std::size_t) { return std::pair{rng.uniform(), rng.uniform()}; };
+        auto uniform = [&] { return rng.uniform(); };
+        for (int depth = 0; depth < kMaxDepth && throughput.max() > 0; ++depth) {
+            glm::dvec3 dir;
+            if (depth == 0) {
+                sum += throughput * direct(scene, pos, normal, surface, first_emitter);
+                const auto [u1, u2] = first_direction();
+                dir = cosine_direction(normal, u1, u2);
+            } else {
+                sum += throughput * direct(scene, pos, normal, surface, random_pair);
+                const double u1 = rng.uniform(), u2 = rng.uniform();
+                dir = cosine_direction(normal, u1, u2);
+            }
+            const double cos_x = glm::dot(normal, dir);
+            const Arrival a = follow(scene, pos + epsilon * normal, dir, throughput, uniform);
+            if (a.surface < 0) break;  // escapes through an opening, or meets a back face
+            const auto& sh = surfaces[std::size_t(a.surface)];
+            if (sh.emission.max() > 0) {
+                double weight = 1.0;
+                if (!a.through_specular) {
+                    // The cosine-sampled half of the multiple importance sampling of emitters.
+                    const double cos_y = -glm::dot(sh.normal, a.direction);
+                    const double p_cos = cos_x / kPi;
+                    const double p_light = a.distance * a.distance / (cos_y * sh.area);
+                    weight = p_cos / (p_cos + p_light);
+                }
+                sum += throughput * sh.emission * weight;
+            }
+            const double survive = sh.reflectance.max();  // Russian roulette on rho
+            if (!(survive > 0) || rng.uniform() >= survive) break;
+            throughput = throughput * sh.reflectance * (1.0 / survive);
+            pos = a.position;
+            normal = sh.normal;
+            surface = a.surface;
+        }
+        return sum;
+    }
 };
 
 PathTracer::PathTracer(const Scene& scene) : m_scene(scene), m_impl(std::make_unique<Impl>()) {
     Impl& im = *m_impl;
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     std::size_t triangle_count = 0;
-    im.surfaces.resize(scene.surfaces.size());
-    for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
-        const Surface& surf = scene.surfaces[s];
+    const std::size_t diffuse_count = scene.surfaces.size();
+    im.surfaces.resize(diffuse_count + scene.specular_surfaces.size());
+    for (std::size_t s = 0; s < im.surfaces.size(); ++s) {
+        const Surface& surf = s < diffuse_count ? scene.surfaces[s] : scene.specular_surfaces[s - diffuse_count];
         auto& sd = im.surfaces[s];
         for (const auto& v : surf.vertices) {
             lo = glm::min(lo, v);
@@ -249,6 +415,9 @@ PathTracer::PathTracer(const Scene& scene) : m_scene(scene), m_impl(std::make_un
         const Material& m = scene.materials.at(std::size_t(surf.material));
         sd.reflectance = m.reflectance;
         sd.emission = m.emission;
+        sd.kind = m.kind;
+        sd.specular = m.specular;
+        sd.ior = m.ior;
         sd.triangles = triangulate_polygon(surf.vertices);
         double acc = 0;
         for (const auto& t : sd.triangles) {
@@ -259,7 +428,16 @@ PathTracer::PathTracer(const Scene& scene) : m_scene(scene), m_impl(std::make_un
         sd.area = acc;
         sd.size = std::sqrt(acc);
         triangle_count += sd.triangles.size();
-        if (sd.area > 0 && sd.emission.max() > 0) im.emitters.push_back(int(s));
+        if (sd.area > 0 && sd.emission.max() > 0 && sd.kind == MaterialKind::diffuse) im.emitters.push_back(int(s));
+    }
+    for (const Sphere& sphere : scene.spheres) {
+        im.spheres.push_back(sphere);
+        // The ellipsoid lies within the image of the cube [-1, 1]^3.
+        for (int k = 0; k < 8; ++k) {
+            const glm::dvec3 c = sphere.transform.point({k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0});
+            lo = glm::min(lo, c);
+            hi = glm::max(hi, c);
+        }
     }
     if (triangle_count == 0) throw std::invalid_argument("path tracer: the scene has no surfaces of positive area");
     m_diagonal = glm::length(hi - lo);
@@ -284,8 +462,8 @@ PathTracer::PathTracer(const Scene& scene) : m_scene(scene), m_impl(std::make_un
     }
     unsigned base = 0;
     im.triangle_surface.reserve(triangle_count);
-    for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
-        const auto& poly = scene.surfaces[s].vertices;
+    for (std::size_t s = 0; s < im.surfaces.size(); ++s) {
+        const auto& poly = im.polygon(scene, int(s));
         for (const auto& tri : im.surfaces[s].triangles) {
             for (int k = 0; k < 3; ++k) {
                 const glm::dvec3 x = poly[std::size_t(tri[std::size_t(k)])] - im.centre;
@@ -307,7 +485,9 @@ PathTracer::PathTracer(const Scene& scene) : m_scene(scene), m_impl(std::make_un
 PathTracer::~PathTracer() = default;
 
 std::string PathTracer::surface_name(int surface) const {
-    const auto& s = m_scene.surfaces.at(std::size_t(surface));
+    const std::size_t n = m_scene.surfaces.size();
+    const auto& s = std::size_t(surface) < n ? m_scene.surfaces.at(std::size_t(surface))
+                                             : m_scene.specular_surfaces.at(std::size_t(surface) - n);
     return s.object.empty() ? "surface " + std::to_string(surface) : s.object;
 }
 
@@ -327,7 +507,7 @@ std::optional<SurfacePoint> PathTracer::locate(const glm::dvec3& p, const glm::d
         const auto hit = im.trace(o, -n, tnear, 2 * snap);
         if (hit.surface < 0) break;
         const auto& sd = im.surfaces[std::size_t(hit.surface)];
-        if (glm::dot(sd.normal, n) > 0) {
+        if (sd.kind == MaterialKind::diffuse && glm::dot(sd.normal, n) > 0) {
             // Exact distance along n to the surface's plane, in double precision.
             const double t = glm::dot(sd.origin - p, sd.normal) / glm::dot(n, sd.normal);
             if (std::abs(t) < best_distance) {
@@ -375,43 +555,12 @@ RadiosityEstimate PathTracer::estimate(const SurfacePoint& x, const ReferenceOpt
 
         Rgb batch_sum;
         for (int path = 0; path < kBatch; ++path) {
-            Rgb reflected;
-            Rgb throughput = sx.reflectance;
-            glm::dvec3 pos = x.position, normal = sx.normal;
-            int surface = x.surface;
-            for (int depth = 0; depth < kMaxDepth && throughput.max() > 0; ++depth) {
-                glm::dvec3 dir;
-                if (depth == 0) {
-                    reflected += throughput * im.direct(m_scene, pos, normal, surface, [&](std::size_t e) {
-                        return e < stratified ? jittered(emitter_strata[e][std::size_t(path)]) : random_pair(e);
-                    });
-                    const auto [u1, u2] = jittered(direction_strata[std::size_t(path)]);
-                    dir = cosine_direction(normal, u1, u2);
-                } else {
-                    reflected += throughput * im.direct(m_scene, pos, normal, surface, random_pair);
-                    const double u1 = rng.uniform(), u2 = rng.uniform();
-                    dir = cosine_direction(normal, u1, u2);
-                }
-                const auto hit = im.trace(pos + im.epsilon * normal, dir, 0.0, std::numeric_limits<float>::infinity());
-                if (hit.surface < 0) break;  // escapes through an opening
-                const auto& sh = im.surfaces[std::size_t(hit.surface)];
-                const double cos_y = -glm::dot(sh.normal, dir);
-                if (cos_y <= 0) break;  // a back face: black, one-sided
-                if (sh.emission.max() > 0) {
-                    // The cosine-sampled half of the multiple importance sampling of emitters.
-                    const double p_cos = glm::dot(normal, dir) / kPi;
-                    const double p_light = hit.t * hit.t / (cos_y * sh.area);
-                    reflected += throughput * sh.emission * (p_cos / (p_cos + p_light));
-                }
-                const double survive = sh.reflectance.max();  // Russian roulette on rho
-                if (!(survive > 0) || rng.uniform() >= survive) break;
-                throughput = throughput * sh.reflectance * (1.0 / survive);
-                glm::dvec3 y = pos + im.epsilon * normal + hit.t * dir;
-                y -= glm::dot(y - sh.origin, sh.normal) * sh.normal;  // back onto the plane, exactly
-                pos = y;
-                normal = sh.normal;
-                surface = hit.surface;
-            }
+            const Rgb reflected = im.reflected(
+                m_scene, x.position, sx.normal, x.surface, sx.reflectance, rng,
+                [&](std::size_t e) {
+                    return e < stratified ? jittered(emitter_strata[e][std::size_t(path)]) : random_pair(e);
+                },
+                [&] { return jittered(direction_strata[std::size_t(path)]); });
             batch_sum += reflected;
         }
         return batch_sum * (1.0 / kBatch);
@@ -465,6 +614,51 @@ RadiosityEstimate PathTracer::estimate(const SurfacePoint& x, const ReferenceOpt
     return out;
 }
 
+RadianceEstimate PathTracer::radiance(const glm::dvec3& origin, const glm::dvec3& direction, std::uint64_t paths,
+                                      std::uint64_t seed, std::uint64_t index) const {
+    return pixel_radiance(origin, direction, glm::dvec3(0.0), glm::dvec3(0.0), paths, seed, index);
+}
+
+RadianceEstimate PathTracer::pixel_radiance(const glm::dvec3& origin, const glm::dvec3& corner, const glm::dvec3& du,
+                                            const glm::dvec3& dv, std::uint64_t paths, std::uint64_t seed,
+                                            std::uint64_t index) const {
+    const Impl& im = *m_impl;
+    Random rng(seed, index);
+    BatchStatistics stats;
+    auto random_pair = [&](std::size_t) { return std::pair{rng.uniform(), rng.uniform()}; };
+    const bool area = glm::length(du) > 0 || glm::length(dv) > 0;
+    std::array<int, kBatch> strata{};
+    const std::uint64_t batches = std::max<std::uint64_t>(2, (paths + kBatch - 1) / kBatch);
+    for (std::uint64_t b = 0; b < batches; ++b) {
+        Rgb batch_sum;
+        if (area) {
+            for (int k = 0; k < kBatch; ++k) strata[std::size_t(k)] = k;
+            std::shuffle(strata.begin(), strata.end(), rng.engine());
+        }
+        for (int path = 0; path < kBatch; ++path) {
+            glm::dvec3 d = corner;
+            if (area) {
+                const int stratum = strata[std::size_t(path)];
+                const double u = (double(stratum % kStrataSide) + rng.uniform()) / kStrataSide;
+                const double v = (double(stratum / kStrataSide) + rng.uniform()) / kStrataSide;
+                d += u * du + v * dv;
+            }
+            d = glm::normalize(d);
+            Rgb throughput = Rgb::gray(1.0);
+            const auto a = im.follow(m_scene, origin, d, throughput, [&] { return rng.uniform(); });
+            if (a.surface < 0) continue;
+            const auto& sh = im.surfaces[std::size_t(a.surface)];
+            const Rgb b_sample = sh.emission + im.reflected(m_scene, a.position, sh.normal, a.surface, sh.reflectance,
+                                                            rng, random_pair, [&] { return random_pair(0); });
+            batch_sum += throughput * b_sample * (1.0 / kPi);
+        }
+        stats.add(batch_sum * (1.0 / kBatch));
+    }
+    m_paths.fetch_add(batches * kBatch, std::memory_order_relaxed);
+    return {Rgb(stats.mean[0], stats.mean[1], stats.mean[2]),
+            Rgb(stats.standard_error(0), stats.standard_error(1), stats.standard_error(2)), batches * kBatch};
+}
+
 std::vector<RadiosityEstimate> PathTracer::estimate_all(std::span<const SurfacePoint> points,
                                                         const ReferenceOptions& options,
                                                         const std::function<void(std::size_t, std::size_t)>& progress,
@@ -487,7 +681,7 @@ std::vector<SurfacePoint> PathTracer::probes(std::size_t n, std::uint64_t seed) 
     double total = 0;
     for (std::size_t s = 0; s < im.surfaces.size(); ++s) {
         const auto& sd = im.surfaces[s];
-        if (sd.area > 0 && !(sd.emission.max() > 0)) {
+        if (sd.area > 0 && !(sd.emission.max() > 0) && sd.kind == MaterialKind::diffuse) {
             total += sd.area;
             candidates.push_back(int(s));
             cumulative.push_back(total);
@@ -504,7 +698,7 @@ std::vector<SurfacePoint> PathTracer::probes(std::size_t n, std::uint64_t seed) 
         int open = 0;
         for (int k = 0; k < 16; ++k) {
             const glm::dvec3 d = cosine_direction(normal, (k % 4 + rng.uniform()) / 4, (k / 4 + rng.uniform()) / 4);
-            const auto hit = im.trace(x + im.epsilon * normal, d, 0.0, std::numeric_limits<float>::infinity());
+            const auto hit = im.trace_all(x + im.epsilon * normal, d, 0.0, std::numeric_limits<float>::infinity());
             if (hit.surface < 0 || glm::dot(im.surfaces[std::size_t(hit.surface)].normal, d) < 0) ++open;
             if (open >= 4) return true;
         }
@@ -571,8 +765,9 @@ double PathTracer::clearance(const SurfacePoint& x, int rays, std::uint64_t seed
     for (int k = 0; k < side * side; ++k) {
         const glm::dvec3 d =
             cosine_direction(x.normal, (k % side + rng.uniform()) / side, (k / side + rng.uniform()) / side);
-        const auto hit = im.trace(x.position + im.epsilon * x.normal, d, 0.0, std::numeric_limits<float>::infinity());
-        if (hit.surface >= 0) nearest = std::min(nearest, hit.t);
+        const auto hit =
+            im.trace_all(x.position + im.epsilon * x.normal, d, 0.0, std::numeric_limits<float>::infinity());
+        if (!hit.missed()) nearest = std::min(nearest, hit.t);
     }
     return nearest;
 }

@@ -54,12 +54,27 @@ struct RadiosityEstimate {
     EstimateStatus status = EstimateStatus::interrupted;
 };
 
-/// Diffuse path tracing with next-event estimation (Kajiya 1986; Veach 1997 ch. 9-10 for the
+/// The radiance arriving along a ray, per channel, with its standard error.
+struct RadianceEstimate {
+    Rgb radiance;        // W/(m^2 sr) per channel (scene units): B/pi at the diffuse point reached, times what
+                         // the mirrors and glass on the way pass on
+    Rgb standard_error;  // of the mean, from the spread of independent batch means
+    std::uint64_t paths = 0;
+};
+
+/// Path tracing with next-event estimation (Kajiya 1986; Veach 1997 ch. 9-10 for the
 /// estimators): at every path vertex each emitter is sampled by area, indirect light is
 /// gathered along a cosine-weighted direction, and paths end by Russian roulette on the
 /// reflectance (unbiased: the throughput is divided by the survival probability). Emitters
 /// are reached both ways, by the area sample and by the cosine-sampled ray, combined with the
 /// balance heuristic, so the variance stays finite beside edges shared with an emitter.
+///
+/// Mirrors and glass (Scene::specular_surfaces and the analytic Scene::spheres) are followed in
+/// the same estimator: a path that meets one is reflected (mirror, scaled by its reflectance) or
+/// reflected or refracted with the exact Fresnel probability (glass, total internal reflection
+/// past the critical angle), and goes on until it meets a diffuse surface. Shadow rays of the
+/// next-event estimate stop at mirrors and glass, so light that they redirect (caustics) reaches
+/// a diffuse point only along the sampled continuation, where it counts whole.
 ///
 /// Paths are drawn in batches of 64 whose first-vertex emitter samples and directions are
 /// stratified (8x8 jittered, independently permuted); the standard error is the spread of the
@@ -86,6 +101,21 @@ public:
     /// and raised, ends sampling after the current batch (status interrupted).
     RadiosityEstimate estimate(const SurfacePoint& x, const ReferenceOptions& options, std::uint64_t index,
                                const std::atomic<bool>* stop = nullptr) const;
+
+    /// The radiance arriving at `origin` from `direction` (towards the origin, along -direction):
+    /// at the first diffuse surface the ray meets, directly or through mirrors and glass, its
+    /// emitted and reflected radiosity over pi (the surface is Lambertian). `paths` (rounded up
+    /// to whole batches of 64) from stream `index` of `seed`.
+    RadianceEstimate radiance(const glm::dvec3& origin, const glm::dvec3& direction, std::uint64_t paths,
+                              std::uint64_t seed, std::uint64_t index) const;
+
+    /// The mean radiance over a pixel of a pinhole camera at `origin`: rays towards
+    /// corner + u du + v dv for (u, v) in [0,1)^2, stratified 8 x 8 within each batch of 64
+    /// (anti-aliasing by a box filter), `paths` rounded up to whole batches; the standard error
+    /// from the spread of the batch means.
+    RadianceEstimate pixel_radiance(const glm::dvec3& origin, const glm::dvec3& corner, const glm::dvec3& du,
+                                    const glm::dvec3& dv, std::uint64_t paths, std::uint64_t seed,
+                                    std::uint64_t index) const;
 
     /// Estimates every point in parallel (TBB). `progress(done, total)` is called from worker
     /// threads after each point. Points not started when `stop` is raised come back with

@@ -21,11 +21,16 @@ K::Point_3 to_cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
 
 class CgalVisibility final : public Visibility {
 public:
-    explicit CgalVisibility(const std::vector<Patch>& patches) {
+    CgalVisibility(const std::vector<Patch>& patches, std::span<const OccluderTriangle> occluders) {
         fit_offset(patches);
+        m_has_occluders = !occluders.empty();
         for (const auto& p : patches)
             for (int k = 1; k + 1 < p.vertex_count; ++k)
                 m_triangles.emplace_back(to_cgal(p.vertices[0]), to_cgal(p.vertices[k]), to_cgal(p.vertices[k + 1]));
+        for (const auto& t : occluders) {
+            const K::Triangle_3 tri(to_cgal(t[0]), to_cgal(t[1]), to_cgal(t[2]));
+            if (!tri.is_degenerate()) m_triangles.push_back(tri);
+        }
         m_tree.insert(m_triangles.cbegin(), m_triangles.cend());
         m_tree.build();  // build now: lazy construction inside concurrent queries would race
     }
@@ -43,8 +48,9 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Visibility> make_cgal_visibility(const std::vector<Patch>& patches) {
-    return std::make_unique<CgalVisibility>(patches);
+std::unique_ptr<Visibility> make_cgal_visibility(const std::vector<Patch>& patches,
+                                                 std::span<const OccluderTriangle> occluders) {
+    return std::make_unique<CgalVisibility>(patches, occluders);
 }
 
 }  // namespace bounce

@@ -20,9 +20,10 @@ namespace {
 /// far below the 1e-6 endpoint offset that keeps rays off their own patches.
 class EmbreeVisibility final : public Visibility {
 public:
-    explicit EmbreeVisibility(const std::vector<Patch>& patches) {
+    EmbreeVisibility(const std::vector<Patch>& patches, std::span<const OccluderTriangle> occluders) {
         m_centre = fit_offset(patches);
-        std::size_t triangles = 0;
+        m_has_occluders = !occluders.empty();
+        std::size_t triangles = occluders.size();
         for (const auto& p : patches) triangles += std::size_t(p.vertex_count - 2);
 
         // "verbose=0": Embree would otherwise print to stdout, which may be a pipe we own.
@@ -37,7 +38,7 @@ public:
         rtcSetSceneBuildQuality(m_scene, RTC_BUILD_QUALITY_HIGH);
         if (triangles > 0) {
             RTCGeometry geometry = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            std::size_t vertex_count = 0;
+            std::size_t vertex_count = 3 * occluders.size();
             for (const auto& p : patches) vertex_count += std::size_t(p.vertex_count);
             auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
                                                                   RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertex_count));
@@ -59,6 +60,15 @@ public:
                     *t++ = base + unsigned(k + 1);
                 }
                 base += unsigned(p.vertex_count);
+            }
+            for (const auto& tri : occluders) {
+                for (const auto& corner : tri) {
+                    const glm::dvec3 x = corner - m_centre;
+                    *v++ = float(x.x);
+                    *v++ = float(x.y);
+                    *v++ = float(x.z);
+                    *t++ = base++;
+                }
             }
             rtcCommitGeometry(geometry);
             rtcAttachGeometry(m_scene, geometry);
@@ -155,15 +165,17 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Visibility> make_embree_visibility(const std::vector<Patch>& patches) {
-    return std::make_unique<EmbreeVisibility>(patches);
+std::unique_ptr<Visibility> make_embree_visibility(const std::vector<Patch>& patches,
+                                                   std::span<const OccluderTriangle> occluders) {
+    return std::make_unique<EmbreeVisibility>(patches, occluders);
 }
 
 std::vector<std::string> visibility_backends() { return {"embree", "cgal"}; }
 
-std::unique_ptr<Visibility> make_visibility(const std::string& backend, const std::vector<Patch>& patches) {
-    if (backend == "embree") return make_embree_visibility(patches);
-    if (backend == "cgal") return make_cgal_visibility(patches);
+std::unique_ptr<Visibility> make_visibility(const std::string& backend, const std::vector<Patch>& patches,
+                                            std::span<const OccluderTriangle> occluders) {
+    if (backend == "embree") return make_embree_visibility(patches, occluders);
+    if (backend == "cgal") return make_cgal_visibility(patches, occluders);
     throw std::invalid_argument("unknown visibility backend '" + backend + "' (valid: embree, cgal)");
 }
 

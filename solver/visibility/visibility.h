@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include "mesh/patch.h"
+#include "mesh/specular_occluders.h"
 
 namespace bounce {
 
@@ -45,6 +46,9 @@ public:
     /// Distance to lift ray endpoints off their surfaces: tiny against the scene (1e-6 of its
     /// diagonal), yet far above the rounding error of the coordinates.
     double offset() const { return m_offset; }
+    /// True when rays are also blocked by occluder triangles that are no patches (mirrors and
+    /// glass): a shaft test over the patches alone (ShaftCuller) cannot prove a pair unblocked.
+    bool has_occluders() const { return m_has_occluders; }
 
 protected:
     /// The part of a segment that is tested: t in [t0, 1 - t0] of a + t (b - a), trimmed at
@@ -76,18 +80,26 @@ protected:
     }
 
     double m_offset = 0.0;
+    bool m_has_occluders = false;
 };
 
-/// CGAL AABB tree of the patches' triangles, queried with exact predicates.
-std::unique_ptr<Visibility> make_cgal_visibility(const std::vector<Patch>& patches);
+/// CGAL AABB tree of the patches' triangles and the occluders, queried with exact predicates.
+std::unique_ptr<Visibility> make_cgal_visibility(const std::vector<Patch>& patches,
+                                                 std::span<const OccluderTriangle> occluders = {});
 
-/// Embree 3 BVH of the patches' triangles (single precision, watertight traversal).
-std::unique_ptr<Visibility> make_embree_visibility(const std::vector<Patch>& patches);
+/// Embree 3 BVH of the patches' triangles and the occluders (single precision, watertight
+/// traversal).
+std::unique_ptr<Visibility> make_embree_visibility(const std::vector<Patch>& patches,
+                                                   std::span<const OccluderTriangle> occluders = {});
 
 /// Backend names, the default (the faster, measured in bench/bench_visibility) first.
 std::vector<std::string> visibility_backends();
 
 /// The backend called `backend`; std::invalid_argument names the valid ones otherwise.
-std::unique_ptr<Visibility> make_visibility(const std::string& backend, const std::vector<Patch>& patches);
+/// `occluders` block rays without being patches: the scene's mirror and glass objects
+/// (specular_occluders). The offset is fitted to the patches alone, so with no occluders the
+/// rays and answers are those of a diffuse scene.
+std::unique_ptr<Visibility> make_visibility(const std::string& backend, const std::vector<Patch>& patches,
+                                            std::span<const OccluderTriangle> occluders = {});
 
 }  // namespace bounce

@@ -470,3 +470,37 @@ TEST(RaycastFormFactor, PartlyBlockedPairsGetMoreRaysWithoutBias) {
     }
     EXPECT_LT(deviation[1], 0.8 * deviation[0]);
 }
+
+TEST(RaycastFormFactor, OccludersThatAreNoPatchesBlockEvenInAConvexRoom) {
+    // An empty convex box: the shaft test proves every pair open. A square occluder (a mirror,
+    // say) across the middle of the box, which is no patch, must still block the floor's view
+    // of the ceiling, for either backend.
+    MeshingOptions o;
+    o.max_edge = 0.5;
+    const PatchMesh mesh(closed_box({1, 1, 1}, {"w", Rgb::gray(0.5), Rgb::gray(1)}), o);
+    const auto& P = mesh.patches();
+    const std::vector<OccluderTriangle> mirror = {
+        {glm::dvec3(-1, -1, 0.5), glm::dvec3(2, -1, 0.5), glm::dvec3(2, 2, 0.5)},
+        {glm::dvec3(-1, -1, 0.5), glm::dvec3(2, 2, 0.5), glm::dvec3(-1, 2, 0.5)}};
+    for (const std::string backend : {"embree", "cgal"}) {
+        const auto open = make_visibility(backend, P);
+        const auto blocked = make_visibility(backend, P, mirror);
+        EXPECT_FALSE(open->has_occluders());
+        EXPECT_TRUE(blocked->has_occluders());
+        const auto ff_open = make_form_factor_estimator("raycast", P, open.get(), {});
+        const auto ff_blocked = make_form_factor_estimator("raycast", P, blocked.get(), {});
+        std::vector<float> row_open(P.size()), row_blocked(P.size());
+        double to_ceiling_open = 0, to_ceiling_blocked = 0;
+        for (std::size_t i = 0; i < P.size(); ++i) {
+            if (P[i].normal.z < 0.5) continue;  // floor patches (z = 0, facing +z)
+            ff_open->compute_row(i, row_open);
+            ff_blocked->compute_row(i, row_blocked);
+            for (std::size_t j = 0; j < P.size(); ++j)
+                if (P[j].normal.z < -0.5) to_ceiling_open += row_open[j], to_ceiling_blocked += row_blocked[j];
+        }
+        EXPECT_GT(to_ceiling_open, 0.5) << backend;
+        EXPECT_EQ(to_ceiling_blocked, 0.0) << backend;
+    }
+    EXPECT_THROW(make_form_factor_estimator("exact", P, make_visibility("embree", P, mirror).get(), {}),
+                 std::invalid_argument);
+}

@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: MIT
+#include "app/two_pass_render.h"
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <optional>
+
+#include "app/point_values.h"
+#include "app/progress_line.h"
+#include "app/signals.h"
+#include "mesh/input_error.h"
+#include "mesh/patch_mesh.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/form_factors/form_factor_matrix.h"
+#include "solver/linear/shooting_solver.h"
+#include "solver/two_pass/caustic_map.h"
+#include "solver/two_pass/eye_pass.h"
+#include "solver/two_pass/patch_scene_tracer.h"
+#include "solver/visibility/visibility.h"
+#include "viewer/eye_picture.h"
+#include "viewer/pending_output.h"
+
+namespace bounce::app {
+
+void add_two_pass_options(CLI::App* cmd, TwoPassOptions& t) {
+    cmd->add_flag("--ray-trace", t.ray_trace,
+                  "draw by eye rays over the radiosity (the default for scenes with mirrors or glass)");
+    cmd->add_option("--samples", t.samples, "eye rays: rays per pixel, jittered (16)")->check(CLI::Range(1, 4096));
+    cmd->add_option("--photons", t.photons,
+                    "eye rays: photons emitted in each of the two light-pass rounds (500000; 0: none)");
+    cmd->add_option("--photon-nearest", t.nearest,
+                    "eye rays: photons per caustic radiance estimate (64; 0: all within --photon-radius)");
+    cmd->add_option("--photon-radius", t.photon_radius,
+                    "eye rays: largest caustic estimate radius in scene units (0: 2% of the scene's diagonal)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--max-depth", t.max_depth, "eye rays: mirror and glass bounces per ray (16)")
+        ->check(CLI::Range(0, 1000));
+    cmd->add_option("--seed", t.seed, "eye rays: seed of the jitter and the photons (1)");
+}
+
+int run_two_pass_render(const CommonOptions& o, const Scene& scene, const PatchMesh& mesh, const std::string& picture,
+                        const RenderOptions& render, const TwoPassOptions& t) {
+    const auto start = std::chrono::steady_clock::now();
+    auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    const auto& P = mesh.patches();
+    const PatchSceneTracer tracer(scene, mesh);
+
+    // Light pass. Mirrors and glass occlude the radiosity's form factors; photons carry the light
+    // they redirect and hand it to the patches where it lands (rho Phi / A, added to the
+    // patches' emission for the solve, so the solution carries it on). Round 1: photons from
+    // the emitters (L S+ D). Round 2, after a first solve: photons from every patch with its
+    // reflected radiosity (L D+ S+ D: a wall seen in the mirror lights the floor), then the
+    // solve again with both.
+    const bool photons = t.photons > 0 && scene.has_specular();
+    CausticOptions co;
+    co.photons = t.photons;
+    co.radius = t.photon_radius;
+    co.nearest = t.nearest;
+    co.seed = t.seed;
+    std::vector<CausticPhoton> stored;
+    std::vector<Rgb> caustic_radiosity(P.size());  // rho Phi / A: the light the photons reflect off each patch
+    std::size_t emitted = 0;
+    double specular_first = 0, radius = 0;
+    auto add_photons = [&](const CausticMap& map) {
+        const auto power = map.power_per_patch();
+        for (std::size_t p = 0; p < P.size(); ++p)
+            if (P[p].area > 0) caustic_radiosity[p] += P[p].reflectance * power[p] * (1.0 / P[p].area);
+        stored.insert(stored.end(), map.photons().begin(), map.photons().end());
+        emitted += map.emitted();
+        radius = map.radius();
+    };
+    const auto visibility = make_visibility(o.visibility, P, specular_occluders(scene));
+    auto solve = [&] {
+        std::vector<Patch> lit = P;
+        for (std::size_t p = 0; p < P.size(); ++p) lit[p].emission += caustic_radiosity[p];
+        const auto ff = make_form_factor_estimator("raycast", lit, visibility.get(), {});
+        ShootingOptions so;
+        so.cancel = &g_interrupted;
+        SolveResult r = ShootingSolver(lit, *ff, so).solve();
+        if (g_interrupted.load()) throw Interrupted("interrupted while solving the radiosity");
+        return r;
+    };
+    if (photons) {
+        const CausticMap lamps(mesh, tracer, co, &g_interrupted);
+        if (g_interrupted.load()) throw Interrupted("interrupted while tracing caustic photons");
+        specular_first = lamps.specular_first_share();
+        add_photons(lamps);
+    }
+    SolveResult res = solve();
+    if (photons) {
+        std::vector<Rgb> reflected(P.size());
+        for (std::size_t p = 0; p < P.size(); ++p) {
+            reflected[p] = res.radiosity[p] - P[p].emission;
+            for (int c = 0; c < 3; ++c) reflected[p][c] = std::max(0.0, reflected[p][c]);
+        }
+        co.seed = t.seed + 1;
+        const CausticMap surfaces(mesh, tracer, co, &g_interrupted, &reflected);
+        if (g_interrupted.load()) throw Interrupted("interrupted while tracing caustic photons");
+        add_photons(surfaces);
+        res = solve();
+    }
+    std::optional<CausticMap> caustics;
+    if (photons) caustics.emplace(std::move(stored), radius, P.size(), t.nearest);
+    // The point data, gathered at the vertices from the solved patches: each vertex's own
+    // emission is the mesh's (without the caustic term), so the gathered B holds the caustic
+    // light only as it arrives from elsewhere; the photon map adds the caustic where it lands.
+    std::vector<Rgb> vertex;
+    if (gather_point_values(mesh, *visibility, res, "vertices", o.quiet)) {
+        vertex = res.point_radiosity;
+    } else {
+        std::vector<Rgb> without(res.radiosity);
+        for (std::size_t p = 0; p < P.size(); ++p) without[p] -= caustic_radiosity[p];
+        vertex = area_weighted_vertex_values(mesh, without);
+    }
+    std::vector<Rgb> patch_values(res.radiosity);
+    for (std::size_t p = 0; p < P.size(); ++p) patch_values[p] -= caustic_radiosity[p];
+    const double light_seconds = seconds();
+
+    // Eye pass.
+    const ExportInfo info{scene.name, "", false, scene.units};
+    const PinholeCamera camera = eye_camera(mesh, res, info, render);
+    EyePassOptions eo;
+    eo.width = render.width;
+    eo.height = render.height;
+    eo.samples_per_pixel = t.samples;
+    eo.max_depth = t.max_depth;
+    eo.seed = t.seed;
+    const EyePass pass(scene, mesh, std::move(vertex), std::move(patch_values), caustics ? &*caustics : nullptr);
+    ProgressLine progress(!o.quiet);
+    const EyeImage image = pass.render(
+        camera, eo, [&](std::size_t d, std::size_t n) { progress.items("eye rays: rows", d, n); }, &g_interrupted);
+    progress.finish();
+    // The exposure as render's for the radiosity alone: the mean non-emitting patch at mid grey.
+    SolveResult shown = res;
+    for (std::size_t p = 0; p < P.size(); ++p) shown.radiosity[p] -= caustic_radiosity[p];
+    write_eye_picture(image, mesh, shown, render.exposure, picture);
+    if (!o.quiet) {
+        std::cerr << "two-pass: " << P.size() << " patches, " << res.steps << " shots";
+        if (caustics)
+            std::cerr << ", " << caustics->photons().size() << " caustic photons stored of " << emitted << " emitted ("
+                      << 100.0 * specular_first << "% of the emitters' met a mirror or glass first)";
+        std::cerr << "; light pass " << light_seconds << " s, eye pass " << seconds() - light_seconds << " s\n";
+    }
+    if (!image.complete()) {
+        std::cerr << "bounce: interrupted: " << picture << " holds the " << image.rows_done << " of " << image.height
+                  << " rows done (the rest black)\n";
+        return interrupted_exit_code() ? interrupted_exit_code() : 130;
+    }
+    if (!o.quiet) std::cout << "wrote " << picture << "\n";
+    return 0;
+}
+
+}  // namespace bounce::app

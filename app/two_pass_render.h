@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// `bounce render SCENE` for scenes with mirrors or glass (or with --ray-trace): the two-pass
+// picture. The light pass solves the radiosity of the diffuse patches, with mirrors and glass
+// as occluders and the caustic photons' power handed to the patches they reach; the eye pass
+// traces rays from the camera (solver/two_pass/eye_pass.h).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "app/common_options.h"
+#include "mesh/patch_mesh.h"
+#include "viewer/renderer.h"
+
+namespace bounce::app {
+
+struct TwoPassOptions {
+    bool ray_trace = false;        // --ray-trace: eye rays for a scene without mirrors or glass too
+    int samples = 16;              // --samples: eye rays per pixel (jittered)
+    std::size_t photons = 500000;  // --photons: photons of each of the two rounds; 0: none
+    std::size_t nearest = 64;      // --photon-nearest: photons per caustic estimate (0: all within the radius)
+    double photon_radius = 0.0;    // --photon-radius: largest estimate radius; 0: 2% of the diagonal
+    int max_depth = 16;            // --max-depth: mirror and glass bounces per eye ray
+    std::uint64_t seed = 1;        // --seed: jitter and photons
+};
+
+/// Adds --ray-trace, --samples, --photons, --photon-nearest, --photon-radius, --max-depth and --seed.
+void add_two_pass_options(CLI::App* cmd, TwoPassOptions& t);
+
+/// Solves the loaded scene (meshed as `mesh`) and writes the eye-ray picture; returns the exit code (130 when Ctrl-C
+/// stopped the eye pass: the rows done are written, the rest black).
+int run_two_pass_render(const CommonOptions& o, const Scene& scene, const PatchMesh& mesh, const std::string& picture,
+                        const RenderOptions& render, const TwoPassOptions& t);
+
+}  // namespace bounce::app
