@@ -885,7 +885,7 @@ PYBIND11_MODULE(_bounce, m) {
             "wall time of the whole solve, for every solver: visibility, form factors, refinement, solve and the "
             "point gather")
         .def_property_readonly("converged", [](const SolutionData& s) { return s.result.converged; })
-        .def_property_readonly("status", [](const SolutionData& s) { return s.result.status; })
+        .def_property_readonly("status", [](const SolutionData& s) { return to_string(s.result.status); })
         .def_property_readonly("residual", [](const SolutionData& s) { return s.result.residual; })
         .def_property_readonly("unshot_fraction", [](const SolutionData& s) { return s.result.unshot_fraction; })
         .def_property_readonly(
