@@ -18,9 +18,7 @@
 
 #include "app/command.h"
 #include "app/signals.h"
-#include "mesh/input_error.h"
-#include "solver/form_factors/form_factor_matrix.h"
-#include "solver/linear/solver.h"
+#include "mesh/errors.h"
 #include "viewer/version.h"
 
 int main(int argc, char** argv) {
@@ -78,23 +76,17 @@ int main(int argc, char** argv) {
     try {
         for (const Command& c : commands)
             if (*c.cli) return c.run();
-        return 2;  // unreachable: require_subcommand(1)
-    } catch (const bounce::InputError& e) {
+        return 2;                           // unreachable: require_subcommand(1)
+    } catch (const bounce::UserError& e) {  // bad input, a limit, no solution (mesh/errors.h)
         std::cerr << "bounce: error: " << e.what() << "\n";
         return 2;
     } catch (const bounce::Interrupted& e) {
         std::cerr << "bounce: " << e.what() << "; nothing written\n";
         return interrupted_exit_code() ? interrupted_exit_code() : 130;
-    } catch (const bounce::SingularSystemError& e) {
+    } catch (const std::invalid_argument& e) {  // an option value the library refuses
         std::cerr << "bounce: error: " << e.what() << "\n";
         return 2;
-    } catch (const bounce::ResourceLimitError& e) {
-        std::cerr << "bounce: error: " << e.what() << "\n";
-        return 2;
-    } catch (const std::invalid_argument& e) {
-        std::cerr << "bounce: error: " << e.what() << "\n";
-        return 2;
-    } catch (const std::exception& e) {
+    } catch (const std::exception& e) {  // a programmer error
         std::cerr << "bounce: failed: " << e.what() << "\n";
         return 1;
     }

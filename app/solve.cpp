@@ -99,7 +99,7 @@ std::string seconds_text(double seconds, double gather_seconds, bool hierarchica
 
 /// What the written file says, so the message after a signal cannot contradict it.
 std::string file_status(const SolveResult& res) {
-    return "status = " + res.status + ", converged = " + (res.converged ? "1" : "0");
+    return "status = " + to_string(res.status) + ", converged = " + (res.converged ? "1" : "0");
 }
 
 /// --solver hierarchical, and --adaptive (the same with the power bound): quadtree elements
@@ -335,7 +335,7 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
         if (s.solver == "shooting")
             std::cout << ", unshot fraction " << res.unshot_fraction << ", estimated error " << res.error_estimate;
         if (res.residual >= 0) std::cout << ", residual " << res.residual;
-        std::cout << (res.converged ? "" : " (NOT converged: " + res.status + ")")
+        std::cout << (res.converged ? "" : " (NOT converged: " + to_string(res.status) + ")")
                   << seconds_text(res.seconds, gather_seconds, false) << "\n"
                   << "wrote " << out.string() << (series ? " and " + series->pvd().string() : "")
                   << (s.png.empty() ? "" : " and " + s.png)

@@ -1,18 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <stdexcept>
 #include <string>
 
-namespace bounce {
+#include "mesh/errors.h"  // InputError, MissingFileError
 
-/// Bad user input: a missing or malformed file, a bad value, an empty scene.
-/// The message already names the file and line (or the face); the CLI prints it as one
-/// line and exits with code 2.
-class InputError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
+namespace bounce {
 
 /// The one style of every range error, after the option, file and line it concerns:
 /// "out of range, got V (expected LO to HI)" and "not a positive number, got 'V' (expected > 0)".
@@ -22,11 +15,5 @@ std::string not_positive_text(const std::string& value);
 std::string not_a_number_text(const std::string& value, double lo, double hi);
 /// A number as messages print it (the stream's default: 1e+08, 0.5).
 std::string number_text(double x);
-
-/// An input file that does not exist (the Python module raises FileNotFoundError for it).
-class MissingFileError : public InputError {
-public:
-    using InputError::InputError;
-};
 
 }  // namespace bounce

@@ -40,6 +40,41 @@ struct Group {
     V normal{0.0};
 };
 
+/// Point k of kPoints on group g: a surface by area (stratified over the group), a triangle of
+/// it by area, a point in it; into s and x. False when the surface has no triangle.
+bool sample_point(const Scene& scene, const Group& g, const std::vector<double>& area, int k, std::mt19937_64& rng,
+                  std::uniform_real_distribution<double>& uni, std::size_t& s, V& x) {
+    double u = (k + uni(rng)) / kPoints * g.area;
+    std::size_t pick = 0;
+    while (pick + 1 < g.surfaces.size() && u > area[std::size_t(g.surfaces[pick])]) {
+        u -= area[std::size_t(g.surfaces[pick])];
+        ++pick;
+    }
+    s = std::size_t(g.surfaces[pick]);
+    const auto& poly = scene.surfaces[s].vertices;
+    const auto tris = triangulate_polygon(poly);
+    if (tris.empty()) return false;
+    double t_area = 0.0;
+    for (const auto& t : tris)
+        t_area += 0.5 * glm::length(glm::cross(poly[t[1]] - poly[t[0]], poly[t[2]] - poly[t[0]]));
+    double w = uni(rng) * t_area;
+    std::size_t ti = 0;
+    for (; ti + 1 < tris.size(); ++ti) {
+        const auto& t = tris[ti];
+        const double a = 0.5 * glm::length(glm::cross(poly[t[1]] - poly[t[0]], poly[t[2]] - poly[t[0]]));
+        if (w <= a) break;
+        w -= a;
+    }
+    const auto& t = tris[ti];
+    double r1 = uni(rng), r2 = uni(rng);
+    if (r1 + r2 > 1) {
+        r1 = 1 - r1;
+        r2 = 1 - r2;
+    }
+    x = poly[t[0]] + r1 * (poly[t[1]] - poly[t[0]]) + r2 * (poly[t[2]] - poly[t[0]]);
+    return true;
+}
+
 }  // namespace
 
 std::vector<ReversedSurface> find_reversed_surfaces(const Scene& scene) {
@@ -114,35 +149,9 @@ std::vector<ReversedSurface> find_reversed_surfaces(const Scene& scene, const Su
             std::uniform_real_distribution<double> uni(0.0, 1.0);
             std::array<int, 2> fronts{0, 0};
             for (int k = 0; k < kPoints; ++k) {
-                // A surface by area (stratified over the group), a triangle of it by area, a point in it.
-                double u = (k + uni(rng)) / kPoints * g.area;
-                std::size_t pick = 0;
-                while (pick + 1 < g.surfaces.size() && u > area[std::size_t(g.surfaces[pick])]) {
-                    u -= area[std::size_t(g.surfaces[pick])];
-                    ++pick;
-                }
-                const std::size_t s = std::size_t(g.surfaces[pick]);
-                const auto& poly = scene.surfaces[s].vertices;
-                const auto tris = triangulate_polygon(poly);
-                if (tris.empty()) continue;
-                double t_area = 0.0;
-                for (const auto& t : tris)
-                    t_area += 0.5 * glm::length(glm::cross(poly[t[1]] - poly[t[0]], poly[t[2]] - poly[t[0]]));
-                double w = uni(rng) * t_area;
-                std::size_t ti = 0;
-                for (; ti + 1 < tris.size(); ++ti) {
-                    const auto& t = tris[ti];
-                    const double a = 0.5 * glm::length(glm::cross(poly[t[1]] - poly[t[0]], poly[t[2]] - poly[t[0]]));
-                    if (w <= a) break;
-                    w -= a;
-                }
-                const auto& t = tris[ti];
-                double r1 = uni(rng), r2 = uni(rng);
-                if (r1 + r2 > 1) {
-                    r1 = 1 - r1;
-                    r2 = 1 - r2;
-                }
-                const V x = poly[t[0]] + r1 * (poly[t[1]] - poly[t[0]]) + r2 * (poly[t[2]] - poly[t[0]]);
+                std::size_t s = 0;
+                V x(0.0);
+                if (!sample_point(scene, g, area, k, rng, uni, s, x)) continue;
                 const V& nm = normal[s];
                 const V tx = glm::normalize(std::abs(nm.x) < 0.9 ? glm::cross(nm, V(1, 0, 0)) : glm::cross(nm, V(0, 1, 0)));
                 const V ty = glm::cross(nm, tx);

@@ -132,27 +132,15 @@ std::vector<ConvexSolid> find_convex_solids(const Scene& scene) {
     return out;
 }
 
-std::vector<CoveredRegion> find_solid_cuts(const Scene& scene) { return find_solid_cuts(scene, find_convex_solids(scene)); }
+namespace {
 
-std::vector<CoveredRegion> find_solid_cuts(const Scene& scene, const std::vector<ConvexSolid>& solids) {
-    std::vector<CoveredRegion> out;
-    if (solids.empty()) return out;
+/// Per solid, the surfaces (of positive area) whose bounds meet its box, sorted; none for a
+/// room (inward), which looks at every surface.
+std::vector<std::vector<int>> near_surfaces(const Scene& scene, const std::vector<ConvexSolid>& solids,
+                                            const std::vector<Box3>& bound, const std::vector<double>& area) {
     const std::size_t n = scene.surfaces.size();
-    std::vector<Box3> bound(n);
-    std::vector<V> normal(n, V(0.0));
-    std::vector<double> area(n, 0.0);
-    std::vector<int> owner(n, -1);
-    for (std::size_t s = 0; s < n; ++s) {
-        for (const V& p : scene.surfaces[s].vertices) bound[s].add(p);
-        const V nn = newell_normal(scene.surfaces[s].vertices);
-        area[s] = 0.5 * glm::length(nn);
-        if (area[s] > 0) normal[s] = nn / (2 * area[s]);
-    }
-    for (std::size_t k = 0; k < solids.size(); ++k)
-        for (const int s : solids[k].surfaces) owner[std::size_t(s)] = int(k);
-
-    // The surfaces whose bounds meet each box's (CGAL's box intersection, Zomorodian and
-    // Edelsbrunner 2000: n log^3 n rather than solids x surfaces). Rooms look at every surface.
+    // CGAL's box intersection (Zomorodian and Edelsbrunner 2000): n log^3 n rather than solids x
+    // surfaces.
     using IdBox = CGAL::Box_intersection_d::Box_with_handle_d<double, 3, std::size_t,
                                                                CGAL::Box_intersection_d::ID_EXPLICIT>;
     const auto to_box = [](const Box3& b, double pad, std::size_t id) {
@@ -174,6 +162,31 @@ std::vector<CoveredRegion> find_solid_cuts(const Scene& scene, const std::vector
         CGAL::box_intersection_d(solid_boxes.begin(), solid_boxes.end(), surface_boxes.begin(), surface_boxes.end(),
                                  [&](const IdBox& a, const IdBox& b) { near[a.handle()].push_back(int(b.handle())); });
     for (auto& v : near) std::sort(v.begin(), v.end());
+    return near;
+}
+
+}  // namespace
+
+std::vector<CoveredRegion> find_solid_cuts(const Scene& scene) { return find_solid_cuts(scene, find_convex_solids(scene)); }
+
+std::vector<CoveredRegion> find_solid_cuts(const Scene& scene, const std::vector<ConvexSolid>& solids) {
+    std::vector<CoveredRegion> out;
+    if (solids.empty()) return out;
+    const std::size_t n = scene.surfaces.size();
+    std::vector<Box3> bound(n);
+    std::vector<V> normal(n, V(0.0));
+    std::vector<double> area(n, 0.0);
+    std::vector<int> owner(n, -1);
+    for (std::size_t s = 0; s < n; ++s) {
+        for (const V& p : scene.surfaces[s].vertices) bound[s].add(p);
+        const V nn = newell_normal(scene.surfaces[s].vertices);
+        area[s] = 0.5 * glm::length(nn);
+        if (area[s] > 0) normal[s] = nn / (2 * area[s]);
+    }
+    for (std::size_t k = 0; k < solids.size(); ++k)
+        for (const int s : solids[k].surfaces) owner[std::size_t(s)] = int(k);
+
+    const std::vector<std::vector<int>> near = near_surfaces(scene, solids, bound, area);
 
     // Objects by source and name, so a surface wholly outside a room counts as outside only
     // when another surface of its object reaches into the room.

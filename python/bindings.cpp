@@ -681,15 +681,8 @@ py::dict reference(const std::shared_ptr<SceneData>& s, const Points& points, co
     return d;
 }
 
-}  // namespace
-}  // namespace bounce::python
-
-PYBIND11_MODULE(_bounce, m) {
-    using namespace bounce;
-    using namespace bounce::python;
-    m.doc() = "bounce: progressive-refinement radiosity (the extension inside the package `bounce`)";
-    m.attr("__version__") = std::string(kBounceVersion);
-
+/// The exception translator and the Progress class.
+void bind_errors_and_progress(py::module_& m) {
     // The command line's one-line messages, as the Python exception that fits.
     py::register_exception_translator([](std::exception_ptr p) {
         try {
@@ -725,7 +718,10 @@ PYBIND11_MODULE(_bounce, m) {
               << " s)";
             return s.str();
         });
+}
 
+/// bounce.Patches: the patches as numpy views.
+void bind_patches(py::module_& m) {
     py::class_<PatchArrays>(m, "Patches",
                             "The scene's patches as read-only numpy views of the library's storage (N patches, "
                             "V mesh vertices).")
@@ -819,7 +815,10 @@ PYBIND11_MODULE(_bounce, m) {
             "(N, 3 or 4) vertex indices of each patch, padded with -1 (a new array: OpenMesh keeps faces as "
             "half-edges)")
         .def("__len__", [](const PatchArrays& a) { return a.mesh->size(); });
+}
 
+/// bounce.Scene and bounce.Solution.
+void bind_scene_and_solution(py::module_& m) {
     py::class_<SceneData, std::shared_ptr<SceneData>>(m, "Scene", "A scene cut into patches (bounce.load).")
         .def_readonly("name", &SceneData::spec, "'cornell' or the path it was loaded from")
         .def_property_readonly("patches",
@@ -897,7 +896,7 @@ PYBIND11_MODULE(_bounce, m) {
             "wall time of the whole solve, for every solver: visibility, form factors, refinement, solve and the "
             "point gather")
         .def_property_readonly("converged", [](const SolutionData& s) { return s.result.converged; })
-        .def_property_readonly("status", [](const SolutionData& s) { return s.result.status; })
+        .def_property_readonly("status", [](const SolutionData& s) { return to_string(s.result.status); })
         .def_property_readonly("residual", [](const SolutionData& s) { return s.result.residual; })
         .def_property_readonly("unshot_fraction", [](const SolutionData& s) { return s.result.unshot_fraction; })
         .def_property_readonly(
@@ -931,7 +930,10 @@ PYBIND11_MODULE(_bounce, m) {
               << s.result.steps << " steps, " << s.result.status << ">";
             return o.str();
         });
+}
 
+/// The module's functions: load, form_factors, solve, reference and the name lists.
+void bind_functions(py::module_& m) {
     m.def("load", &load, py::arg("scene") = "cornell", py::kw_only(), py::arg("patches") = 2000,
           py::arg("max_area") = 0.0, py::arg("max_edge") = 0.0, py::arg("subdivide") = true,
           py::arg("contact_cuts") = true, py::arg("flip") = false, py::arg("strict") = false,
@@ -988,4 +990,18 @@ PYBIND11_MODULE(_bounce, m) {
     m.def("form_factor_methods", &form_factor_methods);
     m.def("gather_modes", &gather_modes);
     m.def("visibility_backends", &visibility_backends);
+}
+
+}  // namespace
+}  // namespace bounce::python
+
+PYBIND11_MODULE(_bounce, m) {
+    using namespace bounce;
+    using namespace bounce::python;
+    m.doc() = "bounce: progressive-refinement radiosity (the extension inside the package `bounce`)";
+    m.attr("__version__") = std::string(kBounceVersion);
+    bind_errors_and_progress(m);
+    bind_patches(m);
+    bind_scene_and_solution(m);
+    bind_functions(m);
 }

@@ -145,6 +145,27 @@ double view_openness(vtkUnstructuredGrid* g, vtkCellLocator* locator, V3 eye, V3
     return sum / (kRays * kRays);
 }
 
+/// The share of rays from inside the box lo-hi out through its side k (outward sign) that
+/// meet nothing: an 8 x 8 grid over the side, away from its edges; `up` the vertical axis.
+double side_openness(vtkCellLocator* locator, const V3& lo, const V3& hi, double diagonal, int up, int k, double sign) {
+    const V3 size = hi - lo, centre = (lo + hi) * 0.5;
+    const int w = 3 - k - up;  // the side's horizontal axis
+    int free_rays = 0;
+    constexpr int kSamples = 8;
+    for (int i = 0; i < kSamples; ++i)
+        for (int j = 0; j < kSamples; ++j) {
+            V3 p = centre;
+            p[w] = lo[w] + size[w] * (0.05 + 0.9 * (i + 0.5) / kSamples);
+            p[up] = lo[up] + size[up] * (0.05 + 0.9 * (j + 0.5) / kSamples);
+            V3 q = p;
+            q[k] = sign > 0 ? hi[k] + 0.01 * diagonal : lo[k] - 0.01 * diagonal;
+            double tt, x[3], pc[3];
+            int sub;
+            if (!locator->IntersectWithLine(p.data(), q.data(), 1e-9, tt, x, pc, sub)) ++free_rays;
+        }
+    return double(free_rays) / (kSamples * kSamples);
+}
+
 CameraPose auto_camera(vtkUnstructuredGrid* g, double fov, double aspect) {
     double b[6];
     g->GetBounds(b);
@@ -186,21 +207,7 @@ CameraPose auto_camera(vtkUnstructuredGrid* g, double fov, double aspect) {
     for (double sign : {-1.0, 1.0})
         for (int k : order) {
             if (k == up) continue;
-            const int w = 3 - k - up;  // the side's horizontal axis
-            int free_rays = 0;
-            constexpr int kSamples = 8;
-            for (int i = 0; i < kSamples; ++i)
-                for (int j = 0; j < kSamples; ++j) {
-                    V3 p = centre;
-                    p[w] = lo[w] + size[w] * (0.05 + 0.9 * (i + 0.5) / kSamples);
-                    p[up] = lo[up] + size[up] * (0.05 + 0.9 * (j + 0.5) / kSamples);
-                    V3 q = p;
-                    q[k] = sign > 0 ? hi[k] + 0.01 * diagonal : lo[k] - 0.01 * diagonal;
-                    double tt, x[3], pc[3];
-                    int sub;
-                    if (!locator->IntersectWithLine(p.data(), q.data(), 1e-9, tt, x, pc, sub)) ++free_rays;
-                }
-            const double open = double(free_rays) / (kSamples * kSamples);
+            const double open = side_openness(locator, lo, hi, diagonal, up, k, sign);
             if (open >= 0.5) ++open_sides;
             const bool longer = size[k] > size[best.k < 0 ? k : best.k] * 1.001;
             if (best.k < 0 || open > best.open + 0.05 || (std::abs(open - best.open) <= 0.05 && longer))

@@ -167,7 +167,7 @@ vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, c
     add_field(fd, "steps", double(result.steps));
     add_field(fd, "unshot_fraction", result.unshot_fraction);
     add_field(fd, "converged", result.converged ? 1.0 : 0.0);
-    add_field(fd, "status", result.status, info.text_as_chars);
+    add_field(fd, "status", to_string(result.status), info.text_as_chars);
     add_field(fd, "residual", result.residual);
     add_field(fd, "seconds", result.seconds);
     add_field(fd, "emitted_power", result.emitted_power);

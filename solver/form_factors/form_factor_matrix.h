@@ -8,21 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "mesh/errors.h"  // Interrupted, ResourceLimitError
 #include "solver/form_factors/form_factor_estimator.h"
 
 namespace bounce {
-
-/// Work stopped on request (a signal) before it had a result.
-class Interrupted : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
-
-/// A request for more memory than the user allowed; the CLI exits with code 2.
-class ResourceLimitError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
 
 /// The full form-factor matrix, dense, float storage (row-major, F(i, j) = F_ij). For the
 /// gathering solvers (Jacobi, Gauss-Seidel), which need every row every sweep.

@@ -98,16 +98,9 @@ int grid_side(int want) {
     return std::max(1, int(std::lround(std::sqrt(double(want)))));
 }
 
-/// Both final_gathers: over every patch (sources null) or over each point's list.
-std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity, const Visibility& visibility,
-                        std::span<const GatherPoint> points, const GatherSources* sources, const GatherOptions& options,
-                        const std::atomic<bool>* cancel,
-                        const std::function<void(std::size_t, std::size_t)>& progress) {
-    std::vector<Rgb> out(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) out[i] = points[i].emission;
-    std::atomic<std::size_t> done{0};
-    const double lift = visibility.offset();
-    const PointFactor factor(patches, options.kernel_tolerance);
+/// Every source patch's card: what the gather reads of it for each point, packed.
+std::vector<SourceCard> source_cards(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
+                                     const PointFactor& factor, const GatherSources* sources) {
     const bool may_descend = sources && sources->descend > 0;
     std::vector<SourceCard> cards(patches.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, patches.size(), 4096), [&](const auto& r) {
@@ -129,6 +122,20 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
             }
         }
     });
+    return cards;
+}
+
+/// Both final_gathers: over every patch (sources null) or over each point's list.
+std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity, const Visibility& visibility,
+                        std::span<const GatherPoint> points, const GatherSources* sources, const GatherOptions& options,
+                        const std::atomic<bool>* cancel,
+                        const std::function<void(std::size_t, std::size_t)>& progress) {
+    std::vector<Rgb> out(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) out[i] = points[i].emission;
+    std::atomic<std::size_t> done{0};
+    const double lift = visibility.offset();
+    const PointFactor factor(patches, options.kernel_tolerance);
+    const std::vector<SourceCard> cards = source_cards(patches, radiosity, factor, sources);
     tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
         if (cancel && cancel->load(std::memory_order_relaxed)) return;
         const GatherPoint& x = points[i];

@@ -114,7 +114,7 @@ SolveResult DirectSolver::solve() {
         res.steps = 0;
         res.residual = relative_residual(P, m_F, res.radiosity);
         res.converged = false;
-        res.status = "interrupted";
+        res.status = SolveStatus::interrupted;
         res.seconds = seconds_since(t0);
         ConvergenceRecord r;
         r.seconds = res.seconds;
@@ -126,7 +126,7 @@ SolveResult DirectSolver::solve() {
     res.steps = 1;
     res.residual = relative_residual(P, m_F, res.radiosity);
     res.converged = std::isfinite(res.residual);
-    res.status = res.converged ? "converged" : "diverged";
+    res.status = res.converged ? SolveStatus::converged : SolveStatus::diverged;
     res.seconds = seconds_since(t0);
     ConvergenceRecord r;
     r.step = 1;

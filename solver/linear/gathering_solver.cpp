@@ -99,7 +99,7 @@ SolveResult GatheringSolver::solve() {
     const std::size_t max_sweeps = m_options.max_iterations ? m_options.max_iterations : 10000;
     const double w = m_options.sor;
     double first = -1.0;
-    res.status = "max iterations";
+    res.status = SolveStatus::max_iterations;
 
     auto log = [&](std::size_t step, double residual, const std::vector<Rgb>& b) {
         ConvergenceRecord r;
@@ -116,7 +116,7 @@ SolveResult GatheringSolver::solve() {
     auto snapshot = [&](std::size_t step, const std::vector<Rgb>& b, double residual) {
         SolveResult snap;
         snap.solver = res.solver;
-        snap.status = "running";
+        snap.status = SolveStatus::running;
         snap.steps = step;
         snap.residual = residual;
         snap.radiosity = b;
@@ -139,20 +139,20 @@ SolveResult GatheringSolver::solve() {
         if (!std::isfinite(residual) || residual > 1e8 * std::max(first, 1e-300)) {
             // Diverging (row sums above 1 with high reflectance): keep the last finite iterate.
             B = old;
-            res.status = "diverged";
+            res.status = SolveStatus::diverged;
             break;
         }
         if (residual < m_options.tolerance) {
-            res.status = "converged";
+            res.status = SolveStatus::converged;
             res.converged = true;
             break;
         }
         if (m_options.max_seconds > 0 && seconds_since(t0) > m_options.max_seconds) {
-            res.status = "max seconds";
+            res.status = SolveStatus::max_seconds;
             break;
         }
         if (m_options.cancel && m_options.cancel->load()) {
-            res.status = "interrupted";
+            res.status = SolveStatus::interrupted;
             break;
         }
     }

@@ -216,7 +216,7 @@ ShootingRun::ShootingRun(const std::vector<Patch>& patches, const FormFactorEsti
     // No shot limit unless one is given: the solve stops on the error it leaves, or when the
     // unshot power stops falling (stalled, below).
     m_max_shots = m_options.max_iterations ? m_options.max_iterations : SIZE_MAX;
-    m_res.status = "max iterations";
+    m_res.status = SolveStatus::max_iterations;
     for (std::size_t i = 0; i < m_n; ++i) {
         m_rho_area += m_patches[i].reflectance * m_patches[i].area;
         m_area += m_patches[i].area;
@@ -273,7 +273,7 @@ void ShootingRun::snapshot() {
     SolveResult snap;
     snap.solver = m_res.solver;
     snap.form_factors = m_res.form_factors;
-    snap.status = "running";
+    snap.status = SolveStatus::running;
     snap.steps = m_res.steps;
     snap.seconds = seconds();
     snap.radiosity = m_res.radiosity;
@@ -330,20 +330,20 @@ std::size_t ShootingRun::scan(Rgb& unshot_abs, Rgb& unshot_signed) {
 bool ShootingRun::stop() {
     if (m_res.error_estimate < m_options.tolerance) {
         m_res.converged = true;
-        m_res.status = "converged";
+        m_res.status = SolveStatus::converged;
         return true;
     }
     if (m_estimate->stalled(m_shot_abs)) {
-        m_res.status = "stalled";
+        m_res.status = SolveStatus::stalled;
         return true;
     }
     if (m_res.steps >= m_max_shots) return true;
     if (m_options.cancel && m_options.cancel->load()) {
-        m_res.status = "interrupted";
+        m_res.status = SolveStatus::interrupted;
         return true;
     }
     if (m_options.max_seconds > 0 && seconds() > m_options.max_seconds) {
-        m_res.status = "max seconds";
+        m_res.status = SolveStatus::max_seconds;
         return true;
     }
     return false;

@@ -2,7 +2,10 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mesh/rgb.h"
@@ -20,6 +23,51 @@ struct ConvergenceRecord {
     double max_error = -1.0;          // max over patches of |B_i - B_ref,i| / |B_ref,i|
     double ambient_rms_error = -1.0;  // shooting: rms_error of B plus the ambient term
 };
+
+/// How a solve ended, or that it is still running (a snapshot). Compares with and prints as
+/// its text ("converged", "max iterations", ...), which the .vtu's status field and the Python
+/// module show.
+class SolveStatus {
+public:
+    enum Value : std::uint8_t {
+        converged,       // within the tolerance
+        max_iterations,  // the shot or sweep limit came first
+        max_seconds,     // the time limit came first
+        diverged,        // the residual grew without bound (rows summing above 1, reflectance near 1)
+        stalled,         // shooting: the unshot power stopped falling
+        interrupted,     // stopped on request (Ctrl-C, a cancel flag)
+        running,         // a snapshot taken during the solve
+    };
+    constexpr SolveStatus(Value v = max_iterations) : m_value(v) {}
+    constexpr operator Value() const { return m_value; }
+    const char* c_str() const {
+        switch (m_value) {
+            case converged:
+                return "converged";
+            case max_iterations:
+                return "max iterations";
+            case max_seconds:
+                return "max seconds";
+            case diverged:
+                return "diverged";
+            case stalled:
+                return "stalled";
+            case interrupted:
+                return "interrupted";
+            case running:
+                return "running";
+        }
+        return "unknown";
+    }
+    operator std::string() const { return c_str(); }
+    friend bool operator==(SolveStatus s, std::string_view text) { return text == s.c_str(); }
+    friend std::ostream& operator<<(std::ostream& out, SolveStatus s) { return out << s.c_str(); }
+
+private:
+    Value m_value;
+};
+
+inline std::string to_string(SolveStatus s) { return s.c_str(); }
 
 /// A radiosity solution and the account of where the emitted power went. Powers are
 /// sum over patches of (per-area quantity) * area, per channel. Energy balance:
@@ -41,8 +89,7 @@ struct SolveResult {
     double error_estimate = -1.0;
     bool converged = false;
     double residual = -1.0;  // last relative residual, when computed
-    std::string status;      // "converged", "max iterations", "max seconds", "diverged", "stalled",
-                             // "interrupted" (Ctrl-C), "running" (a snapshot during the solve)
+    SolveStatus status;      // how the solve ended
     Rgb emitted_power, absorbed_power, escaped_power, unshot_power;
     Rgb shot_power;  // shooting: all power shot; -escaped / shot is the mean row surplus of a closed scene
     std::vector<ConvergenceRecord> log;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/errors.h"  // SingularSystemError
 #include "mesh/patch.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
@@ -54,11 +55,5 @@ struct RadiositySystem {
 std::unique_ptr<Solver> make_solver(const std::string& name, const RadiositySystem& system,
                                     const SolverOptions& options);
 std::vector<std::string> solver_names();
-
-/// The system is singular or otherwise cannot be solved as asked (CLI exit 2).
-class SingularSystemError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
 
 }  // namespace bounce

@@ -40,49 +40,7 @@ public:
         out.leaves = m_tree.leaves();
         const auto& L = out.leaves;
         const auto& G = m_tree.geometry();
-        // Element rows g_e[q] = F(e -> q), for leaves not seen before.
-        std::vector<std::uint32_t> todo;
-        for (const std::uint32_t e : L)
-            if (!m_rows.count(e)) todo.push_back(e);
-        std::vector<std::vector<float>> fresh(todo.size());
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 4), [&](const auto& r) {
-            for (std::size_t k = r.begin(); k != r.end(); ++k) {
-                fresh[k].resize(np);
-                for (std::size_t q = 0; q < np; ++q) fresh[k][q] = float(m_ff.pair(todo[k], q));
-            }
-        });
-        for (std::size_t k = 0; k < todo.size(); ++k) m_rows.emplace(todo[k], std::move(fresh[k]));
-        // Corner rows, keyed by (root, parameters): corners shared within a patch are computed once.
-        std::vector<CornerKey> corner_todo;
-        for (const std::uint32_t e : L) {
-            const auto& n = m_tree.node(e);
-            for (int k = 0; k < n.corner_count; ++k) {
-                const CornerKey key{n.root, n.corners[k].x, n.corners[k].y};
-                if (!m_corners.count(key)) {
-                    m_corners.emplace(key, std::vector<float>());
-                    corner_todo.push_back(key);
-                }
-            }
-        }
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, corner_todo.size(), 4), [&](const auto& r) {
-            for (std::size_t k = r.begin(); k != r.end(); ++k) {
-                const CornerKey& key = corner_todo[k];
-                const Patch& root = m_tree.roots()[std::get<0>(key)];
-                // A corner on the patch's boundary may sit on a junction with another wall,
-                // where the point kernel jumps (the wall's plane passes through it): evaluate a
-                // hair inside, 1e-4 of the way to the patch's centre.
-                const glm::dvec2 centre = root.vertex_count == 4 ? glm::dvec2(0.5, 0.5) : glm::dvec2(1.0 / 3, 1.0 / 3);
-                const glm::dvec2 uv(std::get<1>(key), std::get<2>(key));
-                const glm::dvec3 x = m_tree.point(std::get<0>(key), uv + 1e-4 * (centre - uv));
-                std::vector<float> row(np);
-                const std::uint64_t stream = std::hash<double>()(std::get<1>(key)) * 31 +
-                                             std::hash<double>()(std::get<2>(key)) +
-                                             (std::uint64_t(std::get<0>(key)) << 40);
-                for (std::size_t q = 0; q < np; ++q)
-                    row[q] = q == std::get<0>(key) ? 0.0f : float(m_ff.point_factor(x, root.normal, q, stream));
-                m_corners.at(key) = std::move(row);  // the map's shape does not change here
-            }
-        });
+        compute_rows(L);
 
         // Patch level: F_pq = sum over elements e of p of (A_e / A_p) g_e[q].
         std::vector<float> F(np * np, 0.0f);
@@ -160,6 +118,54 @@ public:
         res.seconds = seconds();
         out.rounds.push_back({n, max_est, std::sqrt(sum_sq / area), res.seconds});
         if (m_options.progress) m_options.progress(out.rounds.size(), out.rounds.back());
+    }
+
+    /// The form-factor rows of the leaves and of their corners not computed before.
+    void compute_rows(const std::vector<std::uint32_t>& L) {
+        const std::size_t np = m_tree.root_count();
+        // Element rows g_e[q] = F(e -> q), for leaves not seen before.
+        std::vector<std::uint32_t> todo;
+        for (const std::uint32_t e : L)
+            if (!m_rows.count(e)) todo.push_back(e);
+        std::vector<std::vector<float>> fresh(todo.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 4), [&](const auto& r) {
+            for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                fresh[k].resize(np);
+                for (std::size_t q = 0; q < np; ++q) fresh[k][q] = float(m_ff.pair(todo[k], q));
+            }
+        });
+        for (std::size_t k = 0; k < todo.size(); ++k) m_rows.emplace(todo[k], std::move(fresh[k]));
+        // Corner rows, keyed by (root, parameters): corners shared within a patch are computed once.
+        std::vector<CornerKey> corner_todo;
+        for (const std::uint32_t e : L) {
+            const auto& n = m_tree.node(e);
+            for (int k = 0; k < n.corner_count; ++k) {
+                const CornerKey key{n.root, n.corners[k].x, n.corners[k].y};
+                if (!m_corners.count(key)) {
+                    m_corners.emplace(key, std::vector<float>());
+                    corner_todo.push_back(key);
+                }
+            }
+        }
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, corner_todo.size(), 4), [&](const auto& r) {
+            for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                const CornerKey& key = corner_todo[k];
+                const Patch& root = m_tree.roots()[std::get<0>(key)];
+                // A corner on the patch's boundary may sit on a junction with another wall,
+                // where the point kernel jumps (the wall's plane passes through it): evaluate a
+                // hair inside, 1e-4 of the way to the patch's centre.
+                const glm::dvec2 centre = root.vertex_count == 4 ? glm::dvec2(0.5, 0.5) : glm::dvec2(1.0 / 3, 1.0 / 3);
+                const glm::dvec2 uv(std::get<1>(key), std::get<2>(key));
+                const glm::dvec3 x = m_tree.point(std::get<0>(key), uv + 1e-4 * (centre - uv));
+                std::vector<float> row(np);
+                const std::uint64_t stream = std::hash<double>()(std::get<1>(key)) * 31 +
+                                             std::hash<double>()(std::get<2>(key)) +
+                                             (std::uint64_t(std::get<0>(key)) << 40);
+                for (std::size_t q = 0; q < np; ++q)
+                    row[q] = q == std::get<0>(key) ? 0.0f : float(m_ff.point_factor(x, root.normal, q, stream));
+                m_corners.at(key) = std::move(row);  // the map's shape does not change here
+            }
+        });
     }
 
     double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count(); }

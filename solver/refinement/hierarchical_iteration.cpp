@@ -162,11 +162,11 @@ void LinkIteration::lay_out(const std::vector<HierarchicalLink>& links) {
 
 void LinkIteration::run(const HierarchicalOptions& options, double tolerance, const std::string& stage,
                         SolveResult& res) {
-    res.status = "max iterations";
+    res.status = SolveStatus::max_iterations;
     res.converged = false;
     for (std::size_t it = 0; it < options.max_iterations; ++it) {
         if (options.cancel && options.cancel->load()) {
-            res.status = "interrupted";
+            res.status = SolveStatus::interrupted;
             break;
         }
         gather();
@@ -177,7 +177,7 @@ void LinkIteration::run(const HierarchicalOptions& options, double tolerance, co
         if (options.progress) options.progress(stage + ": gather iterations", it + 1, options.max_iterations);
         if (done) {
             res.converged = true;
-            res.status = "converged";
+            res.status = SolveStatus::converged;
             break;
         }
     }

@@ -210,7 +210,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         const bool last = round + 1 == options.refine_rounds;
         const double tolerance = last ? options.tolerance : std::max(options.tolerance, 1e-3);
         solve_links({tree, rounds.clusters, links, options}, tolerance, stage, x, res);
-        if (res.status == "interrupted") break;
+        if (res.status == SolveStatus::interrupted) break;
     }
     for (const Link& l : links) out.cluster_links += !l.between_elements();
     out.links = std::move(links);
