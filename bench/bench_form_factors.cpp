@@ -58,7 +58,8 @@ void BM_EmptyCube20(benchmark::State& state, const std::string& method) {
 /// surface factor F12 (exact 0.140126989, VALIDATION.md) on all threads; View3D took 3.6 s.
 void BM_AsymmetricBlocker16(benchmark::State& state, const std::string& method) {
     Scene s = parallel_pair(1, 1, 1);
-    s.surfaces.push_back({{{0.1, 0.2, 0.4}, {0.6, 0.2, 0.4}, {0.6, 0.55, 0.4}, {0.1, 0.55, 0.4}}, 0, "blocker", {"bench", 0}});
+    s.surfaces.push_back(
+        {{{0.1, 0.2, 0.4}, {0.6, 0.2, 0.4}, {0.6, 0.55, 0.4}, {0.1, 0.55, 0.4}}, 0, "blocker", {"bench", 0}});
     MeshingOptions o;
     o.max_edge = 1.0 / 16 * (1 + 1e-9);
     const PatchMesh mesh(s, o);
@@ -73,13 +74,33 @@ void BM_AsymmetricBlocker16(benchmark::State& state, const std::string& method) 
 
 }  // namespace
 
-BENCHMARK_CAPTURE(BM_EmptyCube20, raycast, std::string("raycast"))->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
-BENCHMARK_CAPTURE(BM_EmptyCube20, exact, std::string("exact"))->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
-BENCHMARK_CAPTURE(BM_AsymmetricBlocker16, raycast, std::string("raycast"))->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
-BENCHMARK_CAPTURE(BM_AsymmetricBlocker16, exact, std::string("exact"))->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
-BENCHMARK_CAPTURE(BM_Rows, raycast_embree, std::string("raycast"), std::string("embree"))->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Rows, raycast_cgal, std::string("raycast"), std::string("cgal"))->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Rows, analytic, std::string("analytic"), std::string("embree"))->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Rows, hemicube, std::string("hemicube"), std::string("embree"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_EmptyCube20, raycast, std::string("raycast"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_EmptyCube20, exact, std::string("exact"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_AsymmetricBlocker16, raycast, std::string("raycast"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_AsymmetricBlocker16, exact, std::string("exact"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_Rows, raycast_embree, std::string("raycast"), std::string("embree"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Rows, raycast_cgal, std::string("raycast"), std::string("cgal"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Rows, analytic, std::string("analytic"), std::string("embree"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Rows, hemicube, std::string("hemicube"), std::string("embree"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -2,15 +2,15 @@
 #include "mesh/contact_cuts.h"
 
 #include <algorithm>
-#include <numeric>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <optional>
 
-#include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
 
 #include "mesh/polygon.h"
 #include "mesh/solid_cuts.h"
@@ -209,163 +209,166 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const Surfac
     // joined in surface order so the cuts do not depend on the thread count.
     std::vector<std::vector<CoveredRegion>> found(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& range) {
-    for (std::size_t s = range.begin(); s != range.end(); ++s) {
-        std::vector<CoveredRegion>& out = found[s];
-        const SurfaceFrame& S = frame[s];
-        const int sm = scene.surfaces[s].material;
-        const bool emits =
-            sm >= 0 && std::size_t(sm) < scene.materials.size() && scene.materials[std::size_t(sm)].emission.max() > 0;
-        if (!(S.area > 0)) continue;
-        const auto& spoly = scene.surfaces[s].vertices;
-        auto height = [&](const V& p) { return glm::dot(S.normal, p - S.origin); };
-        auto project = [&](const V& p) { return p - height(p) * S.normal; };
-        std::vector<std::vector<V>> candidates;
-        std::vector<std::pair<V, V>> segments;
+        for (std::size_t s = range.begin(); s != range.end(); ++s) {
+            std::vector<CoveredRegion>& out = found[s];
+            const SurfaceFrame& S = frame[s];
+            const int sm = scene.surfaces[s].material;
+            const bool emits = sm >= 0 && std::size_t(sm) < scene.materials.size() &&
+                               scene.materials[std::size_t(sm)].emission.max() > 0;
+            if (!(S.area > 0)) continue;
+            const auto& spoly = scene.surfaces[s].vertices;
+            auto height = [&](const V& p) { return glm::dot(S.normal, p - S.origin); };
+            auto project = [&](const V& p) { return p - height(p) * S.normal; };
+            std::vector<std::vector<V>> candidates;
+            std::vector<std::pair<V, V>> segments;
 
-        // Other surfaces near this one's slab.
-        V slo(std::numeric_limits<double>::infinity()), shi = -slo;
-        for (const auto& v : spoly) {
-            slo = glm::min(slo, v);
-            shi = glm::max(shi, v);
-        }
-        const std::vector<int> others = tree.in_box(slo - V(reach), shi + V(reach));
-        std::vector<double> hung;  // per candidate: the gap of a parallel cover in front (0: a contact)
-        // A surface parallel in front of this one, its back towards it, projected onto it.
-        const auto add_cover = [&](const std::vector<V>& poly, double gap) {
-            std::vector<V> c;
-            for (const auto& v : poly) c.push_back(project(v));
-            candidates.push_back(std::move(c));
-            hung.resize(candidates.size(), 0.0);
-            hung.back() = gap;
-        };
-
-        for (const int t : others) {
-            if (t == int(s) || !(frame[std::size_t(t)].area > 0)) continue;
-            const auto& tpoly = scene.surfaces[std::size_t(t)].vertices;
-            double hmin = std::numeric_limits<double>::infinity(), hmax = -hmin;
-            for (const auto& v : tpoly) {
-                hmin = std::min(hmin, height(v));
-                hmax = std::max(hmax, height(v));
+            // Other surfaces near this one's slab.
+            V slo(std::numeric_limits<double>::infinity()), shi = -slo;
+            for (const auto& v : spoly) {
+                slo = glm::min(slo, v);
+                shi = glm::max(shi, v);
             }
-            const bool same_facing = glm::dot(frame[std::size_t(t)].normal, S.normal) > 0.999;
-            // An emitter is never hidden by a surface hung at a gap in front of it: that is a
-            // scene wound the wrong way (the lamp facing the ceiling's back), which the winding
-            // check names, not a lamp in a slot.
-            if (hmin > tol && same_facing && hmax - hmin <= tol && !emits &&
-                hmin <= kNearGap * std::sqrt(frame[std::size_t(t)].area)) {
-                // Hung in front at a small gap, its back towards this surface.
-                add_cover(tpoly, 0.5 * (hmin + hmax));
-                continue;
-            }
-            if (hmin > tol || hmax < -tol) continue;  // apart
-            // A closed convex object crossing the plane is cut exactly (find_solid_cuts); its
-            // segments here would only chain with others' into loops that are partly open.
-            if (in_solid[std::size_t(t)] && hmin < -tol && hmax > tol) continue;
-            if (hmin >= -tol && hmax <= tol) {
-                // Flush with this surface: it covers it when it faces the same way and lies in
-                // front (its back towards this surface's front), like a lamp under a ceiling.
-                if (same_facing && hmin + hmax >= 0) add_cover(tpoly, 0.5 * (hmin + hmax));
-                continue;
-            }
-            // Touches or crosses the plane: the segment it leaves there.
-            std::vector<V> pts;
-            for (std::size_t k = 0; k < tpoly.size(); ++k) {
-                const V& a = tpoly[k];
-                const V& b = tpoly[(k + 1) % tpoly.size()];
-                const double ha = height(a), hb = height(b);
-                if (std::abs(ha) <= tol) pts.push_back(project(a));
-                if ((ha > tol && hb < -tol) || (ha < -tol && hb > tol)) pts.push_back(project(a + (ha / (ha - hb)) * (b - a)));
-            }
-            if (pts.size() < 2) continue;
-            std::size_t i0 = 0, i1 = 1;
-            double best = -1;
-            for (std::size_t i = 0; i < pts.size(); ++i)
-                for (std::size_t j = i + 1; j < pts.size(); ++j)
-                    if (const double d = glm::length(pts[i] - pts[j]); d > best) {
-                        best = d;
-                        i0 = i;
-                        i1 = j;
-                    }
-            if (best > tol) segments.emplace_back(pts[i0], pts[i1]);
-        }
-
-        // Chain the segments into closed loops (endpoints meet within the tolerance).
-        std::vector<bool> used(segments.size(), false);
-        for (std::size_t first = 0; first < segments.size(); ++first) {
-            if (used[first]) continue;
-            used[first] = true;
-            std::vector<V> loop = {segments[first].first, segments[first].second};
-            bool closed = false;
-            for (std::size_t guard = 0; guard < segments.size() && !closed; ++guard) {
-                bool extended = false;
-                for (std::size_t k = 0; k < segments.size(); ++k) {
-                    if (used[k]) continue;
-                    const auto& [a, b] = segments[k];
-                    if (glm::length(a - loop.back()) <= tol) {
-                        loop.push_back(b);
-                    } else if (glm::length(b - loop.back()) <= tol) {
-                        loop.push_back(a);
-                    } else {
-                        continue;
-                    }
-                    used[k] = true;
-                    extended = true;
-                    break;
-                }
-                if (glm::length(loop.back() - loop.front()) <= tol && loop.size() > 3) {
-                    loop.pop_back();
-                    closed = true;
-                }
-                if (!extended) break;
-            }
-            if (closed) candidates.push_back(std::move(loop));
-        }
-
-        hung.resize(candidates.size(), 0.0);
-        for (std::size_t ci = 0; ci < candidates.size(); ++ci) {
-            auto& c = candidates[ci];
-            if (c.size() < 3) continue;
-            if (glm::dot(newell_normal(c), S.normal) < 0) std::reverse(c.begin(), c.end());
-            if (!(area_of(c) > tol * tol)) continue;
-            const auto tri = triangulate_polygon(c);
-            bool covered = !tri.empty();
-            if (hung[ci] > tol) {
-                // A hung cover is convex in practice (a lamp panel); its centre and the points
-                // half-way to its corners must all be enclosed.
-                const V centre = polygon_centroid(c);
-                covered = covered && enclosed(centre, S.normal);
-                for (std::size_t k = 0; k < c.size() && covered; ++k)
-                    covered = enclosed(0.5 * (centre + c[k]), S.normal);
-            }
-            // A loop is judged at the centres of its two largest triangles and half-way from
-            // there to their corners: a point or two can both fall inside objects that merely
-            // cross this surface, and a room's own outline would then hide the whole surface.
-            std::vector<std::size_t> order(tri.size());
-            std::iota(order.begin(), order.end(), std::size_t(0));
-            const auto tri_area = [&](std::size_t k) {
-                return glm::length(glm::cross(c[tri[k][1]] - c[tri[k][0]], c[tri[k][2]] - c[tri[k][0]]));
+            const std::vector<int> others = tree.in_box(slo - V(reach), shi + V(reach));
+            std::vector<double> hung;  // per candidate: the gap of a parallel cover in front (0: a contact)
+            // A surface parallel in front of this one, its back towards it, projected onto it.
+            const auto add_cover = [&](const std::vector<V>& poly, double gap) {
+                std::vector<V> c;
+                for (const auto& v : poly) c.push_back(project(v));
+                candidates.push_back(std::move(c));
+                hung.resize(candidates.size(), 0.0);
+                hung.back() = gap;
             };
-            std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tri_area(a) > tri_area(b); });
-            for (std::size_t j = 0; j < order.size() && j < 2 && covered && !(hung[ci] > tol); ++j) {
-                const auto& t = tri[order[j]];
-                const V centre = (c[t[0]] + c[t[1]] + c[t[2]]) / 3.0;
-                covered = enclosed(centre, S.normal, 8);
-                for (int corner = 0; corner < 3 && covered; ++corner)
-                    covered = enclosed(0.5 * (centre + c[t[corner]]), S.normal, 8);
+
+            for (const int t : others) {
+                if (t == int(s) || !(frame[std::size_t(t)].area > 0)) continue;
+                const auto& tpoly = scene.surfaces[std::size_t(t)].vertices;
+                double hmin = std::numeric_limits<double>::infinity(), hmax = -hmin;
+                for (const auto& v : tpoly) {
+                    hmin = std::min(hmin, height(v));
+                    hmax = std::max(hmax, height(v));
+                }
+                const bool same_facing = glm::dot(frame[std::size_t(t)].normal, S.normal) > 0.999;
+                // An emitter is never hidden by a surface hung at a gap in front of it: that is a
+                // scene wound the wrong way (the lamp facing the ceiling's back), which the winding
+                // check names, not a lamp in a slot.
+                if (hmin > tol && same_facing && hmax - hmin <= tol && !emits &&
+                    hmin <= kNearGap * std::sqrt(frame[std::size_t(t)].area)) {
+                    // Hung in front at a small gap, its back towards this surface.
+                    add_cover(tpoly, 0.5 * (hmin + hmax));
+                    continue;
+                }
+                if (hmin > tol || hmax < -tol) continue;  // apart
+                // A closed convex object crossing the plane is cut exactly (find_solid_cuts); its
+                // segments here would only chain with others' into loops that are partly open.
+                if (in_solid[std::size_t(t)] && hmin < -tol && hmax > tol) continue;
+                if (hmin >= -tol && hmax <= tol) {
+                    // Flush with this surface: it covers it when it faces the same way and lies in
+                    // front (its back towards this surface's front), like a lamp under a ceiling.
+                    if (same_facing && hmin + hmax >= 0) add_cover(tpoly, 0.5 * (hmin + hmax));
+                    continue;
+                }
+                // Touches or crosses the plane: the segment it leaves there.
+                std::vector<V> pts;
+                for (std::size_t k = 0; k < tpoly.size(); ++k) {
+                    const V& a = tpoly[k];
+                    const V& b = tpoly[(k + 1) % tpoly.size()];
+                    const double ha = height(a), hb = height(b);
+                    if (std::abs(ha) <= tol) pts.push_back(project(a));
+                    if ((ha > tol && hb < -tol) || (ha < -tol && hb > tol))
+                        pts.push_back(project(a + (ha / (ha - hb)) * (b - a)));
+                }
+                if (pts.size() < 2) continue;
+                std::size_t i0 = 0, i1 = 1;
+                double best = -1;
+                for (std::size_t i = 0; i < pts.size(); ++i)
+                    for (std::size_t j = i + 1; j < pts.size(); ++j)
+                        if (const double d = glm::length(pts[i] - pts[j]); d > best) {
+                            best = d;
+                            i0 = i;
+                            i1 = j;
+                        }
+                if (best > tol) segments.emplace_back(pts[i0], pts[i1]);
             }
-            if (!covered) continue;
-            // Convex loops stay whole; others go as their (convex) triangles.
-            bool convex = true;
-            for (std::size_t k = 0; k < c.size() && convex; ++k)
-                convex = glm::dot(glm::cross(c[(k + 1) % c.size()] - c[k], c[(k + 2) % c.size()] - c[(k + 1) % c.size()]),
-                                  S.normal) >= -1e-12 * diag * diag;
-            if (convex) {
-                out.push_back({int(s), c, hung[ci]});
-            } else {
-                for (const auto& t : tri) out.push_back({int(s), {c[t[0]], c[t[1]], c[t[2]]}, hung[ci]});
+
+            // Chain the segments into closed loops (endpoints meet within the tolerance).
+            std::vector<bool> used(segments.size(), false);
+            for (std::size_t first = 0; first < segments.size(); ++first) {
+                if (used[first]) continue;
+                used[first] = true;
+                std::vector<V> loop = {segments[first].first, segments[first].second};
+                bool closed = false;
+                for (std::size_t guard = 0; guard < segments.size() && !closed; ++guard) {
+                    bool extended = false;
+                    for (std::size_t k = 0; k < segments.size(); ++k) {
+                        if (used[k]) continue;
+                        const auto& [a, b] = segments[k];
+                        if (glm::length(a - loop.back()) <= tol) {
+                            loop.push_back(b);
+                        } else if (glm::length(b - loop.back()) <= tol) {
+                            loop.push_back(a);
+                        } else {
+                            continue;
+                        }
+                        used[k] = true;
+                        extended = true;
+                        break;
+                    }
+                    if (glm::length(loop.back() - loop.front()) <= tol && loop.size() > 3) {
+                        loop.pop_back();
+                        closed = true;
+                    }
+                    if (!extended) break;
+                }
+                if (closed) candidates.push_back(std::move(loop));
+            }
+
+            hung.resize(candidates.size(), 0.0);
+            for (std::size_t ci = 0; ci < candidates.size(); ++ci) {
+                auto& c = candidates[ci];
+                if (c.size() < 3) continue;
+                if (glm::dot(newell_normal(c), S.normal) < 0) std::reverse(c.begin(), c.end());
+                if (!(area_of(c) > tol * tol)) continue;
+                const auto tri = triangulate_polygon(c);
+                bool covered = !tri.empty();
+                if (hung[ci] > tol) {
+                    // A hung cover is convex in practice (a lamp panel); its centre and the points
+                    // half-way to its corners must all be enclosed.
+                    const V centre = polygon_centroid(c);
+                    covered = covered && enclosed(centre, S.normal);
+                    for (std::size_t k = 0; k < c.size() && covered; ++k)
+                        covered = enclosed(0.5 * (centre + c[k]), S.normal);
+                }
+                // A loop is judged at the centres of its two largest triangles and half-way from
+                // there to their corners: a point or two can both fall inside objects that merely
+                // cross this surface, and a room's own outline would then hide the whole surface.
+                std::vector<std::size_t> order(tri.size());
+                std::iota(order.begin(), order.end(), std::size_t(0));
+                const auto tri_area = [&](std::size_t k) {
+                    return glm::length(glm::cross(c[tri[k][1]] - c[tri[k][0]], c[tri[k][2]] - c[tri[k][0]]));
+                };
+                std::sort(order.begin(), order.end(),
+                          [&](std::size_t a, std::size_t b) { return tri_area(a) > tri_area(b); });
+                for (std::size_t j = 0; j < order.size() && j < 2 && covered && !(hung[ci] > tol); ++j) {
+                    const auto& t = tri[order[j]];
+                    const V centre = (c[t[0]] + c[t[1]] + c[t[2]]) / 3.0;
+                    covered = enclosed(centre, S.normal, 8);
+                    for (int corner = 0; corner < 3 && covered; ++corner)
+                        covered = enclosed(0.5 * (centre + c[t[corner]]), S.normal, 8);
+                }
+                if (!covered) continue;
+                // Convex loops stay whole; others go as their (convex) triangles.
+                bool convex = true;
+                for (std::size_t k = 0; k < c.size() && convex; ++k)
+                    convex = glm::dot(glm::cross(c[(k + 1) % c.size()] - c[k],
+                                                 c[(k + 2) % c.size()] - c[(k + 1) % c.size()]),
+                                      S.normal) >= -1e-12 * diag * diag;
+                if (convex) {
+                    out.push_back({int(s), c, hung[ci]});
+                } else {
+                    for (const auto& t : tri) out.push_back({int(s), {c[t[0]], c[t[1]], c[t[2]]}, hung[ci]});
+                }
             }
         }
-    }
     });
     for (auto& f : found) out.insert(out.end(), std::make_move_iterator(f.begin()), std::make_move_iterator(f.end()));
     for (auto& c : find_solid_cuts(scene, solids)) out.push_back(std::move(c));

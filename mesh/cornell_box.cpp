@@ -43,10 +43,8 @@ Scene cornell_room() {
     };
 
     add("floor", facing({{552.8, 0, 0}, {0, 0, 0}, {0, 0, 559.2}, {549.6, 0, 559.2}}, inside), White);
-    add("ceiling", facing({{556, 548.8, 0}, {556, 548.8, 559.2}, {0, 548.8, 559.2}, {0, 548.8, 0}}, inside),
-        White);
-    add("back wall",
-        facing({{549.6, 0, 559.2}, {0, 0, 559.2}, {0, 548.8, 559.2}, {556, 548.8, 559.2}}, inside), White);
+    add("ceiling", facing({{556, 548.8, 0}, {556, 548.8, 559.2}, {0, 548.8, 559.2}, {0, 548.8, 0}}, inside), White);
+    add("back wall", facing({{549.6, 0, 559.2}, {0, 0, 559.2}, {0, 548.8, 559.2}, {556, 548.8, 559.2}}, inside), White);
     add("green wall", facing({{0, 0, 559.2}, {0, 0, 0}, {0, 548.8, 0}, {0, 548.8, 559.2}}, inside), Green);
     // The published red wall is not planar (its four corners are 1.07 mm off their mean
     // plane), so it is two exact triangles over the published corners: no vertex moves, the
@@ -54,8 +52,7 @@ Scene cornell_room() {
     add("red wall", facing({{552.8, 0, 0}, {549.6, 0, 559.2}, {556, 548.8, 559.2}}, inside), Red);
     add("red wall", facing({{552.8, 0, 0}, {556, 548.8, 559.2}, {556, 548.8, 0}}, inside), Red);
     // The light faces down, 0.1 mm below the ceiling.
-    add("light", facing({{213, 548.7, 227}, {343, 548.7, 227}, {343, 548.7, 332}, {213, 548.7, 332}},
-                        V(278, 0, 279.5)),
+    add("light", facing({{213, 548.7, 227}, {343, 548.7, 227}, {343, 548.7, 332}, {213, 548.7, 332}}, V(278, 0, 279.5)),
         Light);
 
     return s;
@@ -77,8 +74,8 @@ Scene make_cornell_box() {
         add(name + " top", facing(top, centre + V(0, 1000, 0)), White);
         for (std::size_t k = 0; k < top.size(); ++k) {
             const V a = top[k], b = top[(k + 1) % top.size()];
-            add(name + " side " + std::to_string(k + 1),
-                facing_away({a, b, V(b.x, 0, b.z), V(a.x, 0, a.z)}, centre), White);
+            add(name + " side " + std::to_string(k + 1), facing_away({a, b, V(b.x, 0, b.z), V(a.x, 0, a.z)}, centre),
+                White);
         }
     };
     block("short block", {{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}});
@@ -89,15 +86,20 @@ Scene make_cornell_box() {
 Scene make_cornell_spheres_box() {
     Scene s = cornell_room();
     s.name = "cornell-spheres";
-    s.materials.push_back({"mirror", Rgb(), Rgb(), MaterialKind::mirror, Rgb::gray(kCornellSpheres.mirror_reflectance)});
+    s.materials.push_back(
+        {"mirror", Rgb(), Rgb(), MaterialKind::mirror, Rgb::gray(kCornellSpheres.mirror_reflectance)});
     s.materials.push_back({"glass", Rgb(), Rgb(), MaterialKind::glass, Rgb::gray(1.0), kCornellSpheres.glass_ior});
     const int mirror = int(s.materials.size()) - 2, glass = int(s.materials.size()) - 1;
     const double r = kCornellSpheres.radius;
     // Resting on the floor (y = 0): centres one radius up.
-    s.spheres.push_back({Transform::translate(kCornellSpheres.mirror_centre) * Transform::scale(V(r)), mirror,
-                         "mirror sphere", {"cornell-spheres box: mirror sphere", 0}});
-    s.spheres.push_back({Transform::translate(kCornellSpheres.glass_centre) * Transform::scale(V(r)), glass,
-                         "glass sphere", {"cornell-spheres box: glass sphere", 0}});
+    s.spheres.push_back({Transform::translate(kCornellSpheres.mirror_centre) * Transform::scale(V(r)),
+                         mirror,
+                         "mirror sphere",
+                         {"cornell-spheres box: mirror sphere", 0}});
+    s.spheres.push_back({Transform::translate(kCornellSpheres.glass_centre) * Transform::scale(V(r)),
+                         glass,
+                         "glass sphere",
+                         {"cornell-spheres box: glass sphere", 0}});
     return s;
 }
 

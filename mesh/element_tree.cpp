@@ -63,7 +63,8 @@ std::size_t ElementTree::split(std::size_t i) {
     if (parent.corner_count == 4) {
         const glm::dvec2 m01 = mid(c[0], c[1]), m12 = mid(c[1], c[2]), m23 = mid(c[2], c[3]), m30 = mid(c[3], c[0]);
         const glm::dvec2 centre = mid(m01, m23);
-        kids = {{{c[0], m01, centre, m30}, {m01, c[1], m12, centre}, {centre, m12, c[2], m23}, {m30, centre, m23, c[3]}}};
+        kids = {
+            {{c[0], m01, centre, m30}, {m01, c[1], m12, centre}, {centre, m12, c[2], m23}, {m30, centre, m23, c[3]}}};
     } else {
         const glm::dvec2 m01 = mid(c[0], c[1]), m12 = mid(c[1], c[2]), m20 = mid(c[2], c[0]);
         kids = {{{c[0], m01, m20, {}}, {m01, c[1], m12, {}}, {m20, m12, c[2], {}}, {m12, m20, m01, {}}}};
@@ -137,7 +138,8 @@ PatchMesh ElementTree::conforming_mesh(const std::vector<std::uint32_t>& leaves)
     std::vector<glm::dvec3> points;
     std::vector<int> point_surface;
     auto cell_of = [&](int s, const glm::dvec3& p, double h) {
-        return Cell{s, std::int64_t(std::floor(p.x / h)), std::int64_t(std::floor(p.y / h)), std::int64_t(std::floor(p.z / h))};
+        return Cell{s, std::int64_t(std::floor(p.x / h)), std::int64_t(std::floor(p.y / h)),
+                    std::int64_t(std::floor(p.z / h))};
     };
     auto weld_point = [&](int s, const glm::dvec3& p) {
         const Cell c = cell_of(s, p, weld);
@@ -191,14 +193,17 @@ PatchMesh ElementTree::conforming_mesh(const std::vector<std::uint32_t>& leaves)
             // lies in a neighbour of a cell the edge passes through; the box of a long slanted
             // edge holds (length / h)^2 cells.
             cells.clear();
-            const Cell c0 = cell_of(g.surface, glm::min(a, b) - weld, h), c1 = cell_of(g.surface, glm::max(a, b) + weld, h);
-            const double box = double(std::get<1>(c1) - std::get<1>(c0) + 1) * double(std::get<2>(c1) - std::get<2>(c0) + 1) *
+            const Cell c0 = cell_of(g.surface, glm::min(a, b) - weld, h),
+                       c1 = cell_of(g.surface, glm::max(a, b) + weld, h);
+            const double box = double(std::get<1>(c1) - std::get<1>(c0) + 1) *
+                               double(std::get<2>(c1) - std::get<2>(c0) + 1) *
                                double(std::get<3>(c1) - std::get<3>(c0) + 1);
             const auto steps = std::int64_t(std::ceil(2.0 * len / h));
             if (box <= 27.0 * double(steps + 1)) {
                 for (auto x = std::get<1>(c0); x <= std::get<1>(c1); ++x)
                     for (auto y = std::get<2>(c0); y <= std::get<2>(c1); ++y)
-                        for (auto z = std::get<3>(c0); z <= std::get<3>(c1); ++z) cells.emplace_back(g.surface, x, y, z);
+                        for (auto z = std::get<3>(c0); z <= std::get<3>(c1); ++z)
+                            cells.emplace_back(g.surface, x, y, z);
             } else {
                 for (std::int64_t s = 0; s <= steps; ++s) {
                     const Cell c = cell_of(g.surface, a + (double(s) / double(steps)) * (b - a), h);

@@ -70,9 +70,9 @@ void report_crossings(Scene& scene) {
         }
         if (!(pos && neg)) return false;
         const glm::dvec3 a(plane_of[0].x(), plane_of[0].y(), plane_of[0].z());
-        const glm::dvec3 n = glm::normalize(glm::cross(
-            glm::dvec3(plane_of[1].x(), plane_of[1].y(), plane_of[1].z()) - a,
-            glm::dvec3(plane_of[2].x(), plane_of[2].y(), plane_of[2].z()) - a));
+        const glm::dvec3 n =
+            glm::normalize(glm::cross(glm::dvec3(plane_of[1].x(), plane_of[1].y(), plane_of[1].z()) - a,
+                                      glm::dvec3(plane_of[2].x(), plane_of[2].y(), plane_of[2].z()) - a));
         double above = 0, below = 0, size = 0;
         for (int k = 0; k < 3; ++k) {
             const glm::dvec3 p(t[k].x(), t[k].y(), t[k].z());
@@ -145,16 +145,15 @@ void check_geometry(Scene& scene, const std::string& source) {
             // Close to planar: project onto the mean plane, so patches tile the face exactly
             // and its area is one number. Beyond rounding-level deviations, say so.
             if (dev > 1e-3 * size)
-                scene.warnings.push_back(where + ": face off its plane by " + length_text(dev, scene.units) +
-                                         " (" + percent_of(dev, size) + "); flattened onto its mean plane");
+                scene.warnings.push_back(where + ": face off its plane by " + length_text(dev, scene.units) + " (" +
+                                         percent_of(dev, size) + "); flattened onto its mean plane");
             for (auto& v : s.vertices) v -= glm::dot(v - c, n) * n;
         }
         kept.push_back(std::move(s));
     }
     scene.surfaces = std::move(kept);
     report_crossings(scene);
-    if (scene.surfaces.empty())
-        throw InputError(source + ": the scene has no usable faces (empty scene)");
+    if (scene.surfaces.empty()) throw InputError(source + ": the scene has no usable faces (empty scene)");
 }
 
 }  // namespace bounce

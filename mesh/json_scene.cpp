@@ -80,9 +80,7 @@ Transform parse_transform(const json& j, const Context& cx) {
     return t;
 }
 
-std::vector<std::vector<V>> unit_quad() {
-    return {{{-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0}}};
-}
+std::vector<std::vector<V>> unit_quad() { return {{{-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0}}}; }
 
 std::vector<std::vector<V>> unit_box() {
     // Counter-clockwise seen from outside.
@@ -147,7 +145,8 @@ Scene read_json_scene(const std::filesystem::path& path) {
     Context top{path.string()};
     top.only_keys(doc, {"name", "materials", "objects"});
     Scene scene;
-    scene.name = doc.contains("name") && doc["name"].is_string() ? doc["name"].get<std::string>() : path.stem().string();
+    scene.name =
+        doc.contains("name") && doc["name"].is_string() ? doc["name"].get<std::string>() : path.stem().string();
 
     std::map<std::string, int> byname;
     if (doc.contains("materials")) {
@@ -178,7 +177,8 @@ Scene read_json_scene(const std::filesystem::path& path) {
                 m.reflectance = Rgb();
                 if (it->contains("ior")) m.ior = cx.number((*it)["ior"], "ior");
                 if (it->contains("transmittance")) m.specular = cx.rgb((*it)["transmittance"], "transmittance");
-                if (!(m.ior >= 1)) cx.fail("index of refraction 'ior' out of range, got " + number_text(m.ior) + " (expected >= 1)");
+                if (!(m.ior >= 1))
+                    cx.fail("index of refraction 'ior' out of range, got " + number_text(m.ior) + " (expected >= 1)");
                 if (m.specular.min() < 0 || m.specular.max() > 1)
                     cx.fail("glass transmittance out of range, got " + m.specular.to_string() +
                             " (expected 0 to 1 per channel)");
@@ -186,7 +186,8 @@ Scene read_json_scene(const std::filesystem::path& path) {
                 cx.fail("unknown kind '" + kind + "' (expected diffuse, mirror or glass)");
             }
             if (m.reflectance.min() < 0 || m.reflectance.max() > 1)
-                cx.fail("reflectance out of range, got " + m.reflectance.to_string() + " (expected 0 to 1 per channel)");
+                cx.fail("reflectance out of range, got " + m.reflectance.to_string() +
+                        " (expected 0 to 1 per channel)");
             if (m.emission.min() < 0)
                 cx.fail("emission out of range, got " + m.emission.to_string() + " (expected >= 0 per channel)");
             byname[m.name] = int(scene.materials.size());
@@ -202,8 +203,8 @@ Scene read_json_scene(const std::filesystem::path& path) {
         cx.only_keys(o, {"type", "file", "material", "transform", "flip", "inward", "name"});
         if (!o.contains("type") || !o["type"].is_string()) cx.fail("needs a 'type' (quad, box, sphere or mesh)");
         const std::string type = o["type"];
-        const std::string name = o.contains("name") && o["name"].is_string() ? o["name"].get<std::string>()
-                                                                                : type + " " + std::to_string(k);
+        const std::string name =
+            o.contains("name") && o["name"].is_string() ? o["name"].get<std::string>() : type + " " + std::to_string(k);
         int material = -1;
         if (o.contains("material")) {
             if (!o["material"].is_string()) cx.fail("'material' must name an entry of 'materials'");
@@ -234,7 +235,8 @@ Scene read_json_scene(const std::filesystem::path& path) {
                 continue;
             }
             // A diffuse sphere is meshed like any surface: its inscribed 32 x 16 polyhedron.
-            for (auto& poly : tessellate_sphere(Transform(), 32, 16)) surfaces.push_back({poly, material, name, {where, 0}});
+            for (auto& poly : tessellate_sphere(Transform(), 32, 16))
+                surfaces.push_back({poly, material, name, {where, 0}});
         } else if (type == "quad" || type == "box") {
             if (o.contains("file")) cx.fail("'file' belongs to type mesh");
             // "objects[2] (box 2)" unnamed, "objects[3] (quad) (east wall)" named: the type once.

@@ -28,8 +28,7 @@ struct Lines {
 };
 
 Rgb parse_rgb(const std::vector<std::string_view>& w, const std::string& where) {
-    if (w.size() != 2 && w.size() != 4)
-        throw InputError(where + ": " + std::string(w[0]) + " needs 1 or 3 numbers");
+    if (w.size() != 2 && w.size() != 4) throw InputError(where + ": " + std::string(w[0]) + " needs 1 or 3 numbers");
     Rgb c;
     for (int k = 0; k < 3; ++k) {
         double v;
@@ -62,8 +61,9 @@ struct MtlStatements {
 /// Kd is ignored for mirror and glass; Ke on them is an error (they do not emit).
 void finish_material(Material& m, const MtlStatements& st, Scene& scene) {
     if (st.illum == 3 || st.illum == 5) {
-        if (!st.ks) throw InputError(st.where + ": material '" + m.name + "' is a mirror (illum " +
-                                     std::to_string(st.illum) + ") but gives no Ks (its reflectance)");
+        if (!st.ks)
+            throw InputError(st.where + ": material '" + m.name + "' is a mirror (illum " + std::to_string(st.illum) +
+                             ") but gives no Ks (its reflectance)");
         m.kind = MaterialKind::mirror;
         m.specular = *st.ks;
         m.reflectance = Rgb();
@@ -91,8 +91,8 @@ void finish_material(Material& m, const MtlStatements& st, Scene& scene) {
         throw InputError(st.where + ": material '" + m.name + "': index of refraction Ni out of range, got " +
                          number_text(m.ior) + " (expected >= 1)");
     if (m.emission.max() > 0.0)
-        throw InputError(st.where + ": material '" + m.name + "': a " + to_string(m.kind) +
-                         " does not emit, got Ke " + m.emission.to_string());
+        throw InputError(st.where + ": material '" + m.name + "': a " + to_string(m.kind) + " does not emit, got Ke " +
+                         m.emission.to_string());
 }
 
 void read_mtl(const std::filesystem::path& path, Scene& scene, std::map<std::string, int>& byname) {
@@ -173,7 +173,8 @@ Scene read_obj(const std::filesystem::path& path, bool own_materials) {
             if (w.size() < 4) throw InputError(where + ": vertex needs 3 coordinates");
             glm::dvec3 p;
             for (int k = 0; k < 3; ++k) {
-                if (!parse_double(w[1 + k], p[k])) throw InputError(where + ": vertex has a bad number '" + std::string(w[1 + k]) + "'");
+                if (!parse_double(w[1 + k], p[k]))
+                    throw InputError(where + ": vertex has a bad number '" + std::string(w[1 + k]) + "'");
                 if (!std::isfinite(p[k])) throw InputError(where + ": vertex has a NaN or infinite coordinate");
             }
             verts.push_back(p);

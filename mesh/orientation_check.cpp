@@ -10,9 +10,9 @@
 #include <string>
 #include <unordered_map>
 
-#include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
 
 #include "mesh/polygon.h"
 #include "mesh/surface_tree.h"
@@ -153,7 +153,8 @@ std::vector<ReversedSurface> find_reversed_surfaces(const Scene& scene, const Su
                 V x(0.0);
                 if (!sample_point(scene, g, area, k, rng, uni, s, x)) continue;
                 const V& nm = normal[s];
-                const V tx = glm::normalize(std::abs(nm.x) < 0.9 ? glm::cross(nm, V(1, 0, 0)) : glm::cross(nm, V(0, 1, 0)));
+                const V tx =
+                    glm::normalize(std::abs(nm.x) < 0.9 ? glm::cross(nm, V(1, 0, 0)) : glm::cross(nm, V(0, 1, 0)));
                 const V ty = glm::cross(nm, tx);
                 for (int side = 0; side < 2; ++side) {
                     const V up = side == 0 ? nm : -nm;
@@ -173,8 +174,9 @@ std::vector<ReversedSurface> find_reversed_surfaces(const Scene& scene, const Su
     for (std::size_t gi = 0; gi < groups.size(); ++gi)
         if (sees[gi][0] <= kFrontAtMost && sees[gi][1] >= kBackAtLeast)
             out.push_back({groups[gi].surfaces, sees[gi][0], sees[gi][1]});
-    std::sort(out.begin(), out.end(),
-              [](const ReversedSurface& a, const ReversedSurface& b) { return a.surfaces.front() < b.surfaces.front(); });
+    std::sort(out.begin(), out.end(), [](const ReversedSurface& a, const ReversedSurface& b) {
+        return a.surfaces.front() < b.surfaces.front();
+    });
     return out;
 }
 
@@ -185,8 +187,9 @@ std::string reversed_surface_warning(const Scene& scene, const ReversedSurface& 
     if (r.surfaces.size() > 1)
         msg += " and " + std::to_string(r.surfaces.size() - 1) + " more face" + (r.surfaces.size() > 2 ? "s" : "") +
                " in its plane";
-    msg += " faces away from the scene: " + percent(r.front_sees) + " of the view from its front meets the front of a " +
-           "surface, " + percent(r.back_sees) + " of the view from its back; it seems wound clockwise seen from " +
+    msg += " faces away from the scene: " + percent(r.front_sees) +
+           " of the view from its front meets the front of a " + "surface, " + percent(r.back_sees) +
+           " of the view from its back; it seems wound clockwise seen from " +
            "its front (that front stays dark, and what it should reflect escapes). ";
     if (s.where.file.find(".json") != std::string::npos)
         msg += "Set \"flip\": true on that object";

@@ -19,13 +19,13 @@ namespace bounce {
 /// contiguous memory.
 struct Patch {
     std::array<glm::dvec3, 4> vertices{};  // counter-clockwise seen from the front
-    int vertex_count = 0;                   // 3 or 4
-    glm::dvec3 centre{0.0};                 // area centroid
-    glm::dvec3 normal{0.0};                 // unit, towards the front (the lit side)
-    double area = 0.0;                      // scene units squared
-    Rgb reflectance;                        // rho in [0,1]
-    Rgb emission;                           // E, emitted radiosity
-    int surface = 0;                        // index of the input surface it was cut from
+    int vertex_count = 0;                  // 3 or 4
+    glm::dvec3 centre{0.0};                // area centroid
+    glm::dvec3 normal{0.0};                // unit, towards the front (the lit side)
+    double area = 0.0;                     // scene units squared
+    Rgb reflectance;                       // rho in [0,1]
+    Rgb emission;                          // E, emitted radiosity
+    int surface = 0;                       // index of the input surface it was cut from
 
     std::span<const glm::dvec3> polygon() const { return {vertices.data(), std::size_t(vertex_count)}; }
     /// Signed height of x above the patch's plane (positive in front).

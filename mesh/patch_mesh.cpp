@@ -19,7 +19,6 @@ namespace {
 
 using V = glm::dvec3;
 
-
 bool convex_quad(std::span<const V> q) {
     const V n = newell_normal(q);
     for (int k = 0; k < 4; ++k)
@@ -131,9 +130,7 @@ bool on_outline(const std::vector<glm::dvec3>& poly, const glm::dvec3& p, double
 
 }  // namespace
 
-double planned_patches(const Scene& scene, const MeshingOptions& options) {
-    return plan_mesh(scene, options).patches;
-}
+double planned_patches(const Scene& scene, const MeshingOptions& options) { return plan_mesh(scene, options).patches; }
 
 namespace {
 
@@ -178,9 +175,9 @@ private:
     std::uint32_t parent = 0;  // index of the current element's patch in the split = 1 mesh
     std::size_t apart = 0;     // faces OpenMesh would not join to their neighbours
     int first_apart = -1;
-    const bool cut;                                              // contact cuts
-    std::vector<std::vector<const CoveredRegion*>> covered;      // per surface, with cut
-    std::vector<std::pair<V, VH>> cut_points;                    // of the current surface
+    const bool cut;                                          // contact cuts
+    std::vector<std::vector<const CoveredRegion*>> covered;  // per surface, with cut
+    std::vector<std::pair<V, VH>> cut_points;                // of the current surface
     int cut_surface = -1;
     std::vector<bool> triangulated;  // per surface: meshed by discontinuity meshing
 };
@@ -201,7 +198,8 @@ MeshBuilder::MeshBuilder(const Scene& scene_, const MeshingOptions& options_, Op
     m_mesh.add_property(face_surface, "f:surface");
     if (cut)
         for (const auto& c : scene.covered)
-            if (c.surface >= 0 && std::size_t(c.surface) < covered.size()) covered[std::size_t(c.surface)].push_back(&c);
+            if (c.surface >= 0 && std::size_t(c.surface) < covered.size())
+                covered[std::size_t(c.surface)].push_back(&c);
 }
 
 void MeshBuilder::emit_face(int si, const std::vector<VH>& vh) {
@@ -272,7 +270,8 @@ void MeshBuilder::emit_patch(int si, const std::vector<VH>& vh) {
     for (const CoveredRegion* c : covered[std::size_t(si)]) {
         std::vector<std::vector<V>> next;
         for (const auto& piece : pieces)
-            for (auto& q : subtract_convex(piece, c->polygon, n / (2 * area), 1e-9 * area)) next.push_back(std::move(q));
+            for (auto& q : subtract_convex(piece, c->polygon, n / (2 * area), 1e-9 * area))
+                next.push_back(std::move(q));
         pieces = std::move(next);
     }
     if (pieces.size() == 1 && pieces[0] == poly) return emit_face(si, vh);
@@ -384,10 +383,10 @@ void MeshBuilder::finish(std::vector<std::string>& warnings) {
         const auto& first = scene.surfaces[std::size_t(first_apart)];
         const bool one = apart == 1;
         warnings.push_back("meshing: " + std::to_string(apart) + (one ? " patch on " : " patches (the first on ") +
-                             describe(first.where, first.object) + (one ? "" : ")") +
-                             (one ? " would not join its neighbours' edges and keeps vertices of its own"
-                                  : " would not join their neighbours' edges and keep vertices of their own") +
-                             " (OpenMesh: complex edge): the exported mesh has a seam there");
+                           describe(first.where, first.object) + (one ? "" : ")") +
+                           (one ? " would not join its neighbours' edges and keeps vertices of its own"
+                                : " would not join their neighbours' edges and keep vertices of their own") +
+                           " (OpenMesh: complex edge): the exported mesh has a seam there");
     }
 }
 
@@ -409,7 +408,8 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
     // OpenMesh prints its refusals on its own error stream; they are counted and reported below.
     const QuietOpenMesh quiet;
     MeshBuilder builder(scene, options, m_mesh, m_patches, m_parent, m_clearance);
-    if (options.kind == MeshingOptions::Kind::discontinuity) builder.triangulate_discontinuities(plan.max_area, m_warnings);
+    if (options.kind == MeshingOptions::Kind::discontinuity)
+        builder.triangulate_discontinuities(plan.max_area, m_warnings);
     builder.emit_pieces(plan.pieces);
     builder.finish(m_warnings);
 }

@@ -16,14 +16,14 @@ namespace bounce {
 /// How finely surfaces are cut into patches. A patch is at most max_edge long on each side
 /// and at most max_area in area; 0 means "not limited by this".
 struct MeshingOptions {
-    double max_area = 0.0;          // scene units^2; 0 with max_edge 0: total area / target_patches
-    double max_edge = 0.0;          // scene units
-    std::size_t target_patches = 2000;   // used for the default when neither limit is set
-    std::size_t max_patches = 2000000;   // refuse meshings larger than this, before building them
-    bool subdivide = true;          // false: one patch per input face (polygons > 4 are triangulated)
-    int element_split = 1;          // cut every patch into split x split elements (see PatchMesh::parents)
-    bool cut_contacts = true;       // leave out Scene::covered (clipping the patches that straddle it);
-                                    // only with element_split 1, whose parents are then the identity
+    double max_area = 0.0;              // scene units^2; 0 with max_edge 0: total area / target_patches
+    double max_edge = 0.0;              // scene units
+    std::size_t target_patches = 2000;  // used for the default when neither limit is set
+    std::size_t max_patches = 2000000;  // refuse meshings larger than this, before building them
+    bool subdivide = true;              // false: one patch per input face (polygons > 4 are triangulated)
+    int element_split = 1;              // cut every patch into split x split elements (see PatchMesh::parents)
+    bool cut_contacts = true;           // leave out Scene::covered (clipping the patches that straddle it);
+                                        // only with element_split 1, whose parents are then the identity
     /// uniform: the grids above. discontinuity: surfaces that receive traced shadow boundaries
     /// (mesh/discontinuity_mesh.h) are constrained Delaunay triangulations refined to the same
     /// area limit and to aspect_bound instead; the others keep their grid. Only with element_split 1.

@@ -21,9 +21,7 @@ glm::dvec3 newell_normal(std::span<const glm::dvec3> poly) {
     return n;
 }
 
-double polygon_area(std::span<const glm::dvec3> poly) {
-    return 0.5 * glm::length(newell_normal(poly));
-}
+double polygon_area(std::span<const glm::dvec3> poly) { return 0.5 * glm::length(newell_normal(poly)); }
 
 glm::dvec3 polygon_centroid(std::span<const glm::dvec3> poly) {
     const glm::dvec3 n = newell_normal(poly);
@@ -71,7 +69,10 @@ std::vector<std::array<int, 3>> triangulate_polygon(std::span<const glm::dvec3> 
             bool ear = true;
             for (int q : idx) {
                 if (q == a || q == b || q == c) continue;
-                if (inside(q, a, b, c)) { ear = false; break; }
+                if (inside(q, a, b, c)) {
+                    ear = false;
+                    break;
+                }
             }
             if (!ear) continue;
             tris.push_back({a, b, c});

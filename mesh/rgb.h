@@ -17,9 +17,24 @@ struct Rgb {
     constexpr double& operator[](int c) { return c == 0 ? r : (c == 1 ? g : b); }
     constexpr double operator[](int c) const { return c == 0 ? r : (c == 1 ? g : b); }
 
-    constexpr Rgb& operator+=(const Rgb& o) { r += o.r; g += o.g; b += o.b; return *this; }
-    constexpr Rgb& operator-=(const Rgb& o) { r -= o.r; g -= o.g; b -= o.b; return *this; }
-    constexpr Rgb& operator*=(double s) { r *= s; g *= s; b *= s; return *this; }
+    constexpr Rgb& operator+=(const Rgb& o) {
+        r += o.r;
+        g += o.g;
+        b += o.b;
+        return *this;
+    }
+    constexpr Rgb& operator-=(const Rgb& o) {
+        r -= o.r;
+        g -= o.g;
+        b -= o.b;
+        return *this;
+    }
+    constexpr Rgb& operator*=(double s) {
+        r *= s;
+        g *= s;
+        b *= s;
+        return *this;
+    }
     friend constexpr Rgb operator+(Rgb a, const Rgb& b) { return a += b; }
     friend constexpr Rgb operator-(Rgb a, const Rgb& b) { return a -= b; }
     friend constexpr Rgb operator*(Rgb a, double s) { return a *= s; }

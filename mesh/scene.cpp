@@ -66,8 +66,8 @@ void Scene::validate() const {
                 throw InputError("material '" + m.name + "': reflectance out of range, got " +
                                  m.reflectance.to_string() + " (expected 0 to 1 per channel)");
             if (!std::isfinite(e) || e < 0.0)
-                throw InputError("material '" + m.name + "': emission out of range, got " +
-                                 m.emission.to_string() + " (expected finite and >= 0 per channel)");
+                throw InputError("material '" + m.name + "': emission out of range, got " + m.emission.to_string() +
+                                 " (expected finite and >= 0 per channel)");
         }
     }
     for (const auto& s : surfaces) {
@@ -85,8 +85,7 @@ void Scene::validate() const {
         for (const auto& v : s.vertices)
             if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
                 throw InputError(s.where.to_string() + ": face has a NaN or infinite coordinate");
-        if (s.material < 0 || s.material >= int(materials.size()) ||
-            !materials[std::size_t(s.material)].is_specular())
+        if (s.material < 0 || s.material >= int(materials.size()) || !materials[std::size_t(s.material)].is_specular())
             throw InputError(s.where.to_string() + ": a specular face has no mirror or glass material");
     }
     for (const auto& s : spheres) {
@@ -97,8 +96,7 @@ void Scene::validate() const {
         for (int c = 0; c < 4; ++c)
             for (int r = 0; r < 4; ++r)
                 if (!std::isfinite(m[c][r])) throw InputError(where + ": sphere transform is not finite");
-        if (s.material < 0 || s.material >= int(materials.size()) ||
-            !materials[std::size_t(s.material)].is_specular())
+        if (s.material < 0 || s.material >= int(materials.size()) || !materials[std::size_t(s.material)].is_specular())
             throw InputError(where + ": a sphere must be of a mirror or glass material");
     }
 }

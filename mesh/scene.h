@@ -52,8 +52,8 @@ std::string length_text(double value, const std::string& units);
 /// counter-clockwise order seen from the front; the front is the side that emits and reflects.
 struct Surface {
     std::vector<glm::dvec3> vertices;
-    int material = 0;     // index into Scene::materials
-    std::string object;   // object or group name of the input
+    int material = 0;    // index into Scene::materials
+    std::string object;  // object or group name of the input
     SourceLocation where;
 };
 
@@ -88,8 +88,8 @@ struct Scene {
     std::vector<Surface> surfaces;
     std::vector<Surface> specular_surfaces;  // polygons of mirror or glass materials
     std::vector<Sphere> spheres;             // analytic spheres of mirror or glass materials
-    std::vector<std::string> warnings;  // problems that were repaired, to show the user
-    std::vector<CoveredRegion> covered;  // found by load_scene; empty: mesh every surface whole
+    std::vector<std::string> warnings;       // problems that were repaired, to show the user
+    std::vector<CoveredRegion> covered;      // found by load_scene; empty: mesh every surface whole
 
     /// True when some object is a mirror or glass.
     bool has_specular() const { return !specular_surfaces.empty() || !spheres.empty(); }

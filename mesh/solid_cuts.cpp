@@ -64,7 +64,9 @@ bool is_convex(const std::vector<V>& poly, const V& normal) {
 /// by the same edge the other way: a closed, consistently wound surface without T-junctions.
 bool edges_pair_up(const Scene& scene, const std::vector<int>& faces, double cell) {
     using Key = std::array<long long, 3>;
-    const auto key = [&](const V& p) { return Key{std::llround(p.x / cell), std::llround(p.y / cell), std::llround(p.z / cell)}; };
+    const auto key = [&](const V& p) {
+        return Key{std::llround(p.x / cell), std::llround(p.y / cell), std::llround(p.z / cell)};
+    };
     std::map<std::pair<Key, Key>, int> count;
     for (const int f : faces) {
         const auto& poly = scene.surfaces[std::size_t(f)].vertices;
@@ -124,9 +126,9 @@ std::vector<ConvexSolid> find_convex_solids(const Scene& scene) {
                     behind += h > eps;
                     in_front += h < -eps;
                 }
-        if (behind && in_front) continue;  // not convex
+        if (behind && in_front) continue;    // not convex
         if (!behind && !in_front) continue;  // flat
-        solid.inward = in_front == 0;  // every vertex in front of every face: seen from inside
+        solid.inward = in_front == 0;        // every vertex in front of every face: seen from inside
         out.push_back(std::move(solid));
     }
     return out;
@@ -141,8 +143,8 @@ std::vector<std::vector<int>> near_surfaces(const Scene& scene, const std::vecto
     const std::size_t n = scene.surfaces.size();
     // CGAL's box intersection (Zomorodian and Edelsbrunner 2000): n log^3 n rather than solids x
     // surfaces.
-    using IdBox = CGAL::Box_intersection_d::Box_with_handle_d<double, 3, std::size_t,
-                                                               CGAL::Box_intersection_d::ID_EXPLICIT>;
+    using IdBox =
+        CGAL::Box_intersection_d::Box_with_handle_d<double, 3, std::size_t, CGAL::Box_intersection_d::ID_EXPLICIT>;
     const auto to_box = [](const Box3& b, double pad, std::size_t id) {
         return IdBox(CGAL::Bbox_3(b.lo.x - pad, b.lo.y - pad, b.lo.z - pad, b.hi.x + pad, b.hi.y + pad, b.hi.z + pad),
                      id);
@@ -167,7 +169,9 @@ std::vector<std::vector<int>> near_surfaces(const Scene& scene, const std::vecto
 
 }  // namespace
 
-std::vector<CoveredRegion> find_solid_cuts(const Scene& scene) { return find_solid_cuts(scene, find_convex_solids(scene)); }
+std::vector<CoveredRegion> find_solid_cuts(const Scene& scene) {
+    return find_solid_cuts(scene, find_convex_solids(scene));
+}
 
 std::vector<CoveredRegion> find_solid_cuts(const Scene& scene, const std::vector<ConvexSolid>& solids) {
     std::vector<CoveredRegion> out;
@@ -244,7 +248,8 @@ std::vector<CoveredRegion> find_solid_cuts(const Scene& scene, const std::vector
             if (solid.inward)
                 for (const auto& piece : mine) {
                     const auto inside = clip_all(piece, false);
-                    if (inside.size() >= 3 && polygon_area(inside) > 1e-9 * area[s]) reaches_in[std::size_t(object_of[s])] = 1;
+                    if (inside.size() >= 3 && polygon_area(inside) > 1e-9 * area[s])
+                        reaches_in[std::size_t(object_of[s])] = 1;
                 }
         }
         for (std::size_t e = 0; e < looked_at.size(); ++e) {

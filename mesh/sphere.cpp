@@ -10,8 +10,8 @@
 
 namespace bounce {
 
-std::optional<SphereHit> intersect_sphere(const Sphere& sphere, const glm::dvec3& o, const glm::dvec3& d,
-                                          double t_min, double t_max) {
+std::optional<SphereHit> intersect_sphere(const Sphere& sphere, const glm::dvec3& o, const glm::dvec3& d, double t_min,
+                                          double t_max) {
     const Transform& T = sphere.transform;
     const glm::dvec3 ol = T.inverse_point(o), dl = T.inverse_vector(d);
     // |ol + t dl|^2 = 1:  a t^2 + 2 b t + c = 0.

@@ -26,8 +26,8 @@ struct SphereHit {
 /// (linear part only), which keeps t: |o' + t d'|^2 = 1 is solved there in double precision
 /// (the stable form of the quadratic), and the normal is brought back by the inverse
 /// transpose of T (a normal is a covector: it must stay perpendicular to the tangents T maps).
-std::optional<SphereHit> intersect_sphere(const Sphere& sphere, const glm::dvec3& o, const glm::dvec3& d,
-                                          double t_min, double t_max);
+std::optional<SphereHit> intersect_sphere(const Sphere& sphere, const glm::dvec3& o, const glm::dvec3& d, double t_min,
+                                          double t_max);
 
 /// The sphere as a closed polyhedron of `slices` x `stacks` latitude-longitude faces (quads,
 /// triangles at the poles), counter-clockwise seen from outside, placed by T. Its vertices lie

@@ -27,9 +27,7 @@ glm::dvec3 Transform::vector(const glm::dvec3& v) const { return glm::dmat3(m_m)
 // The inverse of the linear part is the transpose of the stored inverse transpose.
 glm::dvec3 Transform::inverse_vector(const glm::dvec3& v) const { return glm::transpose(m_normal) * v; }
 
-glm::dvec3 Transform::inverse_point(const glm::dvec3& p) const {
-    return inverse_vector(p - glm::dvec3(m_m[3]));
-}
+glm::dvec3 Transform::inverse_point(const glm::dvec3& p) const { return inverse_vector(p - glm::dvec3(m_m[3])); }
 
 glm::dvec3 Transform::normal(const glm::dvec3& n) const { return glm::normalize(m_normal * n); }
 

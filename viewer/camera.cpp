@@ -101,8 +101,8 @@ V3 cross(V3 a, V3 b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b
 /// How open the picture from `eye` towards `target` is: over an 8 x 8 grid of rays across the
 /// frame, the mean distance to the first face the camera sees (its front towards the camera;
 /// back faces are culled in the picture, so rays pass through them), relative to half of
-/// `depth` and capped at 1 (what stands beyond the room's middle does not block the view). A camera inside an object (most rays meet a back face first) scores 0: the
-/// picture would show the room through the object's inside.
+/// `depth` and capped at 1 (what stands beyond the room's middle does not block the view). A camera inside an object
+/// (most rays meet a back face first) scores 0: the picture would show the room through the object's inside.
 double view_openness(vtkUnstructuredGrid* g, vtkCellLocator* locator, V3 eye, V3 target, V3 up, double view_angle,
                      double aspect, double depth) {
     const V3 forward = (target - eye) * (1.0 / std::max(length(target - eye), 1e-300));
@@ -297,8 +297,8 @@ CameraPose choose_camera(vtkUnstructuredGrid* g, const std::string& spec, double
     double v[6];
     char sep1, sep2, colon, sep3, sep4;
     std::istringstream in(s);
-    if (!(in >> v[0] >> sep1 >> v[1] >> sep2 >> v[2] >> colon >> v[3] >> sep3 >> v[4] >> sep4 >> v[5]) ||
-        sep1 != ',' || sep2 != ',' || colon != ':' || sep3 != ',' || sep4 != ',' || !in.eof())
+    if (!(in >> v[0] >> sep1 >> v[1] >> sep2 >> v[2] >> colon >> v[3] >> sep3 >> v[4] >> sep4 >> v[5]) || sep1 != ',' ||
+        sep2 != ',' || colon != ':' || sep3 != ',' || sep4 != ',' || !in.eof())
         throw InputError(camera_name + ": camera, got '" + spec + "' (expected cornell, auto or x,y,z:tx,ty,tz)");
     pose.position = {v[0], v[1], v[2]};
     pose.focal_point = {v[3], v[4], v[5]};

@@ -31,10 +31,9 @@ struct CameraPose {
 /// that wall, looking at the far wall, with the field of view that gives the far wall the share
 /// of the picture it has in the Cornell view; unless an object blocks that view (or holds the
 /// camera): 8 x 8 rays from six places before each of the four walls measure how far the view
-/// reaches, and a place more than 10% more open than the wall's centre is taken instead. A scene open on all four sides (no walls) is seen
-/// from the edge of the most open side, level, across 110 degrees. Flat scenes are looked at
-/// face-on from their front.
-/// Throws InputError for a malformed spec or fov, the message starting with `camera_name` or
+/// reaches, and a place more than 10% more open than the wall's centre is taken instead. A scene open on all four sides
+/// (no walls) is seen from the edge of the most open side, level, across 110 degrees. Flat scenes are looked at face-on
+/// from their front. Throws InputError for a malformed spec or fov, the message starting with `camera_name` or
 /// `fov_name` (the command line's "--camera", Python's "camera").
 CameraPose choose_camera(vtkUnstructuredGrid* grid, const std::string& spec, double fov, double aspect,
                          const std::string& camera_name = "--camera", const std::string& fov_name = "--fov");

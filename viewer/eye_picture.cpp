@@ -9,9 +9,9 @@
 #include <vtkImageData.h>
 #include <vtkJPEGWriter.h>
 #include <vtkPNGWriter.h>
+#include <vtkPointData.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
-#include <vtkPointData.h>
 
 #include "viewer/camera.h"
 #include "viewer/pending_output.h"
@@ -77,7 +77,8 @@ void write_eye_picture(const EyeImage& image, const PatchMesh& mesh, const Solve
             // VTK's images run bottom to top.
             const Rgb& L = image.pixels[std::size_t(row) * std::size_t(image.width) + std::size_t(col)];
             const auto c = tone(L * std::numbers::pi);
-            unsigned char* px = out + 3 * (std::size_t(image.height - 1 - row) * std::size_t(image.width) + std::size_t(col));
+            unsigned char* px =
+                out + 3 * (std::size_t(image.height - 1 - row) * std::size_t(image.width) + std::size_t(col));
             px[0] = c[0];
             px[1] = c[1];
             px[2] = c[2];

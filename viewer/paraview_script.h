@@ -16,8 +16,7 @@ namespace bounce {
 /// luminance and radiosity colour maps ranged over the surfaces that do not emit (a light would
 /// flatten the rest into one colour). `--screenshot OUT.png` saves the view and exits.
 /// The .vtu is found beside the script, else at its absolute path when written.
-void write_paraview_script(const std::filesystem::path& script, const std::filesystem::path& vtu,
-                           const PatchMesh& mesh, const SolveResult& result, const ExportInfo& info,
-                           const RenderOptions& options);
+void write_paraview_script(const std::filesystem::path& script, const std::filesystem::path& vtu, const PatchMesh& mesh,
+                           const SolveResult& result, const ExportInfo& info, const RenderOptions& options);
 
 }  // namespace bounce

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "viewer/renderer.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
-#include <unistd.h>
 
 #include <vtkActor.h>
 #include <vtkCallbackCommand.h>
@@ -15,11 +15,11 @@
 #include <vtkDataSetMapper.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
+#include <vtkImageWriter.h>
 #include <vtkInteractorStyleTrackballCamera.h>
+#include <vtkJPEGWriter.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
-#include <vtkImageWriter.h>
-#include <vtkJPEGWriter.h>
 #include <vtkPNGWriter.h>
 #include <vtkPointData.h>
 #include <vtkProperty.h>

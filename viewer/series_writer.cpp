@@ -31,13 +31,16 @@ void SeriesWriter::finish(const SolveResult& final) {
         write_vtu(m_folder / name, m_mesh, final, m_info);
         m_entries.emplace_back(final.steps, (m_folder.filename() / name).string());
     }
-    write_text_file(m_pvd, [&](std::ostream& out) {
-        out << "<?xml version=\"1.0\"?>\n"
-               "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
-        for (const auto& [step, file] : m_entries)
-            out << "    <DataSet timestep=\"" << step << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
-        out << "  </Collection>\n</VTKFile>\n";
-    }, ".pvd file");
+    write_text_file(
+        m_pvd,
+        [&](std::ostream& out) {
+            out << "<?xml version=\"1.0\"?>\n"
+                   "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+            for (const auto& [step, file] : m_entries)
+                out << "    <DataSet timestep=\"" << step << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
+            out << "  </Collection>\n</VTKFile>\n";
+        },
+        ".pvd file");
 }
 
 }  // namespace bounce

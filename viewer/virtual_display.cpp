@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "viewer/virtual_display.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <csignal>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <fcntl.h>
 

@@ -1,29 +1,29 @@
 // SPDX-License-Identifier: MIT
 #include "viewer/vtu_writer.h"
 
+#include <unistd.h>
 #include <stdexcept>
 #include <system_error>
-#include <unistd.h>
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkCharArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
-#include <vtkCharArray.h>
 #include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <vtkXMLUnstructuredGridReader.h>
+#include "mesh/input_error.h"
 #include "viewer/display_rgb.h"
 #include "viewer/pending_output.h"
 #include "viewer/solution_grid.h"
 #include "viewer/version.h"
-#include "mesh/input_error.h"
-#include <vtkXMLUnstructuredGridReader.h>
 
 namespace bounce {
 namespace {
@@ -183,7 +183,6 @@ void write_vtu(const std::filesystem::path& path, const PatchMesh& mesh, const S
 }
 
 void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid, bool ascii) {
-
     // Temporary name in the same directory, so the final rename is atomic.
     std::filesystem::path tmp = path;
     tmp += ".tmp-" + std::to_string(::getpid());

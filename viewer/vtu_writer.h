@@ -11,8 +11,8 @@ namespace bounce {
 
 /// What the exporter records about the run in the file's field data.
 struct ExportInfo {
-    std::string scene;      // scene name or path
-    std::string settings;   // free text: meshing and form-factor settings
+    std::string scene;           // scene name or path
+    std::string settings;        // free text: meshing and form-factor settings
     bool text_as_chars = false;  // text fields as Int8 char arrays (meshio reads them; ParaView shows numbers)
     std::string units{};         // the scene's length unit ("mm"); empty: unknown (no field written)
 };

@@ -52,7 +52,8 @@ int main(int argc, char** argv) {
     for (auto [h, w, l] : {std::tuple{1.0, 1.0, 1.0}, {2.0, 1.0, 1.0}, {1.0, 2.0, 1.0}, {1.0, 1.0, 0.5}}) {
         char name[96];
         std::snprintf(name, sizeof name, "perpendicular h=%g w=%g l=%g", h, w, l);
-        cases.push_back({name, perpendicular_pair(h, w, l), perpendicular_rectangles(h, w, l), std::max({h, w, l}), 16});
+        cases.push_back(
+            {name, perpendicular_pair(h, w, l), perpendicular_rectangles(h, w, l), std::max({h, w, l}), 16});
     }
     for (auto [r1, r2, h] : {std::tuple{1.0, 1.0, 1.0}, {0.5, 1.0, 1.0}, {1.0, 2.0, 0.5}}) {
         char name[96];
