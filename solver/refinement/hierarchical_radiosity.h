@@ -42,11 +42,9 @@ struct HierarchicalOptions {
     bool cluster_visibility = true;  // cluster links: visible fraction of rays between member centroids
     bool oriented_clusters = true;   // a cluster sends and receives per axis direction, not alike to all members
     /// Relative error of a link's unoccluded form factor (it overrides a tighter
-    /// FormFactorOptions::unoccluded_tolerance in form_factors): a link hands its receiver a mean within
-    /// link_epsilon (a tenth) of the point values, so the form factors' default 1e-6 bought
-    /// nothing. On the Cornell box at power epsilon 1e-6 the links' form factors took 0.11 s
-    /// instead of 0.29 s (1e-4: 0.17 s), the point data 0.480% RMS off the 0.1% probes against
-    /// 0.478%; at 3e-5, 0.042 s instead of 0.065 s (1e-4), 1.396% against 1.391%.
+    /// FormFactorOptions::unoccluded_tolerance in form_factors): a link hands its receiver a mean
+    /// within link_epsilon (a tenth) of the point values, so a tighter form factor buys nothing
+    /// the link can keep, and costs quadrature.
     double link_factor_tolerance = 1e-3;
     double tolerance = 1e-6;  // stop when no element's radiosity changes by more than this, relatively
     std::size_t max_iterations = 1000;
@@ -57,12 +55,10 @@ struct HierarchicalOptions {
     std::function<void(const std::string& stage, std::size_t done, std::size_t total)> progress;
 };
 
-/// The power epsilon `--adaptive` refines with ("model no more than the scene needs"). On the
-/// Cornell box it gives 0.98% RMS point data at the 0.1% probes in 0.44 s, against the default
-/// uniform run's 1.26% in 1.02 s (one `compare --meshes` run); on the 10k office 2.9% median
-/// in 28 s of wall time on 2 cores for the solve and gather, against uniform shooting's 5.8% in 118 s of CPU for the
-/// whole run (README, "Adaptive subdivision and hierarchical radiosity"). A share of the scene's power, so it does not
-/// depend on the scene's units.
+/// The power epsilon `--adaptive` refines with ("model no more than the scene needs"): links
+/// that could misplace less than this share of the scene's power stay coarse. A share, so it
+/// does not depend on the scene's units; its error and time against the other settings are in
+/// docs/guide/choosing-settings.md.
 inline constexpr double kAdaptivePowerEpsilon = 1e-5;
 
 /// The power epsilon an adaptive solve refines with: the one given when above 0, else
