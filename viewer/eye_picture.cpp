@@ -7,14 +7,13 @@
 #include <numbers>
 
 #include <vtkImageData.h>
-#include <vtkJPEGWriter.h>
-#include <vtkPNGWriter.h>
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 
 #include "viewer/camera.h"
 #include "viewer/pending_output.h"
+#include "viewer/picture_writer.h"
 #include "viewer/solution_grid.h"
 #include "viewer/tone_map.h"
 
@@ -83,24 +82,7 @@ void write_eye_picture(const EyeImage& image, const PatchMesh& mesh, const Solve
             px[1] = c[1];
             px[2] = c[2];
         }
-    std::string ext = picture.extension().string();
-    for (auto& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    const bool jpeg = ext != ".png";
-    std::filesystem::path tmp = picture;
-    tmp += ".tmp-" + std::to_string(::getpid()) + ext;
-    const PendingOutput pending(tmp.c_str());
-    vtkSmartPointer<vtkImageWriter> writer;
-    if (jpeg) {
-        auto j = vtkSmartPointer<vtkJPEGWriter>::New();
-        j->SetQuality(95);
-        writer = j;
-    } else {
-        writer = vtkSmartPointer<vtkPNGWriter>::New();
-    }
-    writer->SetFileName(tmp.string().c_str());
-    writer->SetInputData(data);
-    writer->Write();
-    commit_output(tmp, picture, writer->GetErrorCode() == 0 && std::filesystem::exists(tmp), jpeg ? "JPEG" : "PNG");
+    write_picture(data, picture);
 }
 
 }  // namespace bounce

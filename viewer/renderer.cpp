@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "viewer/renderer.h"
 
-#include <unistd.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -15,12 +14,9 @@
 #include <vtkDataSetMapper.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
-#include <vtkImageWriter.h>
 #include <vtkInteractorStyleTrackballCamera.h>
-#include <vtkJPEGWriter.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
 #include <vtkPointData.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
@@ -38,18 +34,13 @@
 #include "viewer/display_rgb.h"
 #include "viewer/luminance_scale.h"
 #include "viewer/pending_output.h"
+#include "viewer/picture_writer.h"
 #include "viewer/solution_grid.h"
 #include "viewer/tone_map.h"
 #include "viewer/virtual_display.h"
 
 namespace bounce {
 namespace {
-
-std::string picture_extension(const std::filesystem::path& p) {
-    std::string ext = p.extension().string();
-    for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
-}
 
 void set_camera(vtkRenderer* ren, const CameraPose& pose) {
     vtkCamera* cam = ren->GetActiveCamera();
@@ -208,23 +199,7 @@ void render_grid(vtkUnstructuredGrid* g, const std::filesystem::path& png, const
     grab->SetInput(s.window);
     grab->ReadFrontBufferOff();
     grab->Update();
-    std::filesystem::path tmp = png;
-    tmp += ".tmp-" + std::to_string(::getpid()) + ".png";
-    const PendingOutput pending(tmp.c_str());
-    // The format follows the name: a .jpg holding PNG bytes confuses every viewer.
-    const bool jpeg = picture_extension(png) != ".png";
-    vtkSmartPointer<vtkImageWriter> writer;
-    if (jpeg) {
-        auto j = vtkSmartPointer<vtkJPEGWriter>::New();
-        j->SetQuality(95);
-        writer = j;
-    } else {
-        writer = vtkSmartPointer<vtkPNGWriter>::New();
-    }
-    writer->SetFileName(tmp.string().c_str());
-    writer->SetInputConnection(grab->GetOutputPort());
-    writer->Write();
-    commit_output(tmp, png, writer->GetErrorCode() == 0 && std::filesystem::exists(tmp), jpeg ? "JPEG" : "PNG");
+    write_picture(grab->GetOutput(), png);
 }
 
 void keypress(vtkObject* caller, unsigned long, void* client, void*) {
