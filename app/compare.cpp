@@ -187,8 +187,9 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
     // (the rows done are written below).
     const std::size_t total_runs =
         (c.reference_level > 0 ? 1 : 0) + (wanted("uniform") ? std::size_t(c.reference_level) : 0) +
-        (wanted("patches") ? c.patch_counts.size() : 0) + (wanted("discontinuity") ? c.patch_counts.size() : 0) +
-        (wanted("receiver") ? c.targets.size() : 0) + (wanted("adaptive") ? c.link_epsilons.size() : 0) +
+        (wanted("patches") ? c.patch_counts.size() * c.display_tolerances.size() : 0) +
+        (wanted("discontinuity") ? c.patch_counts.size() : 0) + (wanted("receiver") ? c.targets.size() : 0) +
+        (wanted("adaptive") ? c.link_epsilons.size() : 0) +
         (wanted("hierarchical") ? c.link_epsilons.size() * c.power_epsilons.size() : 0);
     ProgressLine progress(!o.quiet);
     std::size_t runs_done = 0;
@@ -238,8 +239,30 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
             SolverOptions so;
             so.cancel = &g_interrupted;
             const SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
-            add_row(kind == MeshingOptions::Kind::uniform ? "patches" : "discontinuity",
-                    "--patches " + std::to_string(n), 0, seconds_since(t0), -1.0, um, r.radiosity);
+            const double solved = seconds_since(t0);
+            const char* method = kind == MeshingOptions::Kind::uniform ? "patches" : "discontinuity";
+            for (const double display : c.display_tolerances) {
+                if (display == 0) {
+                    add_row(method, "--patches " + std::to_string(n), 0, solved, -1.0, um, r.radiosity);
+                    continue;
+                }
+                // Display refinement (solve --display-tolerance): a row of its own, the solve's
+                // time plus its gather's.
+                ++runs_done;
+                if (g_interrupted.load() || c.gather == "none") break;
+                std::ostringstream setting;
+                setting << "--patches " << n << " display " << display;
+                Row row{method, setting.str(), um.size(), 0, solved, -1.0, {}, false};
+                const auto t1 = std::chrono::steady_clock::now();
+                PatchMesh cells = um;
+                SolveResult g;
+                g.radiosity = r.radiosity;
+                const auto v = make_visibility(o.visibility, cells.patches(), specular_occluders(scene));
+                row.gathered = gather_point_values(cells, *v, g, "vertices", PatchDisplayRefinement{display}, true);
+                row.seconds += seconds_since(t1);
+                row.probe = score_at_probes(cells, g.radiosity, probes, g.point_radiosity);
+                if (!g_interrupted.load()) rows.push_back(std::move(row));
+            }
             if (g_interrupted.load()) break;
         }
         if (g_interrupted.load()) break;
@@ -592,8 +615,8 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
         ->capture_default_str();
     cmp_cmd
         ->add_option("--display-tolerances", cmp->display_tolerances,
-                     "--meshes: hierarchical display refinement tolerances (solve --display-tolerance), each a row "
-                     "of every hierarchical solve (0: off)")
+                     "--meshes: display refinement tolerances (solve --display-tolerance), each a row of every "
+                     "patches and hierarchical solve (0: off)")
         ->delimiter(',')
         ->check(in_range(0.0, 1.0))
         ->capture_default_str();

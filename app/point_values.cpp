@@ -42,6 +42,18 @@ bool gather_point_values(const PatchMesh& mesh, const Visibility& visibility, So
         std::to_string(mesh.mesh().n_vertices()) + " vertices x " + std::to_string(mesh.size()) + " patches");
 }
 
+bool gather_point_values(PatchMesh& mesh, const Visibility& visibility, SolveResult& res, const std::string& mode,
+                         const PatchDisplayRefinement& display, bool quiet) {
+    const std::string pairs =
+        std::to_string(mesh.mesh().n_vertices()) + " vertices x " + std::to_string(mesh.size()) + " patches";
+    return with_progress(
+        mode, quiet,
+        [&](const StageProgress& p) {
+            return bounce::gather_point_values(mesh, visibility, res, mode, display, &g_interrupted, p);
+        },
+        pairs);
+}
+
 bool gather_point_values(const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility,
                          SolveResult& res, const std::string& mode, bool quiet) {
     return with_progress(

@@ -20,6 +20,11 @@ namespace bounce::app {
 bool gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res, const std::string& mode,
                          bool quiet);
 
+/// The same with display refinement of a patch solution (bounce::PatchDisplayRefinement):
+/// `mesh` may become a finer mesh of display cells, and res's per-patch arrays follow it.
+bool gather_point_values(PatchMesh& mesh, const Visibility& visibility, SolveResult& res, const std::string& mode,
+                         const PatchDisplayRefinement& display, bool quiet);
+
 /// The same for a hierarchical solution's conforming mesh, gathered through its links
 /// (bounce::gather_hierarchical_point_values).
 bool gather_point_values(const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility,

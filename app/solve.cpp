@@ -216,8 +216,9 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
             "--gather vertices (got " +
             s.gather + ")");
     if (s.adaptive || s.solver == "hierarchical") return run_solve_elements(o, s, out);
-    if (s.display_given && s.display_given->count() > 0)
-        throw std::invalid_argument("--display-tolerance applies to the hierarchical solver (and --adaptive)");
+    const bool display_given = s.display_given && s.display_given->count() > 0;
+    if (display_given && (s.element_split > 1 || s.series > 0))
+        throw std::invalid_argument("--display-tolerance does not combine with --elements or --series");
     if (!s.log_csv.empty()) check_output(s.log_csv);
 
     const bool elements = s.element_split > 1;
@@ -301,8 +302,16 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     double gather_seconds = 0.0;
     if (s.gather != "none" && !g_interrupted.load()) {
         const double before = res.seconds;
-        gather_point_values(mesh, *visibility, res, s.gather, o.quiet);
+        PatchDisplayRefinement display;
+        display.tolerance = display_given ? s.display.tolerance : 0.0;
+        const std::size_t solved = mesh.size();
+        gather_point_values(mesh, *visibility, res, s.gather, display, o.quiet);
         gather_seconds = res.seconds - before;
+        if (display.tolerance > 0)
+            settings << " display_tolerance=" << display.tolerance << " display_cells=" << mesh.size();
+        if (mesh.size() != solved && !o.quiet)
+            std::cout << "display refinement: " << mesh.size() - solved
+                      << " more cells (the point data gathered at their vertices)\n";
     }
     res.seconds = seconds_since(start);
 
@@ -392,11 +401,11 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->capture_default_str();
     solve->display_given =
         solve_cmd
-            ->add_option(
-                "--display-tolerance", solve->display.tolerance,
-                "hierarchical: split an element for display where linear interpolation between its vertices, as "
-                "ParaView shows the point data, would miss its centre value by more than this share, and "
-                "gather the new vertices; 0: off (default: 0.0025 with --adaptive, else 0)")
+            ->add_option("--display-tolerance", solve->display.tolerance,
+                         "split cells for display where linear interpolation between their vertices, as ParaView shows "
+                         "the point data, would miss the light inside them by more than this share, and gather the new "
+                         "vertices (patch solvers: new points tried down to 2 splits a patch; hierarchical: the "
+                         "element's centre value); 0: off (default: 0.0025 with --adaptive, else 0)")
             ->check(in_range(0.0, 1.0));
     solve_cmd
         ->add_option("--refine-rounds", solve->hierarchical.refine_rounds,

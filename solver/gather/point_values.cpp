@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <utility>
 
 namespace bounce {
 
@@ -60,6 +61,24 @@ GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visib
             res.gathered_centres = final_gather(mesh.patches(), res.radiosity, visibility,
                                                 centre_gather_points(mesh.patches()), options, cancel, report);
         });
+}
+
+GatherOutcome gather_point_values(PatchMesh& mesh, const Visibility& visibility, SolveResult& res,
+                                  const std::string& mode, const PatchDisplayRefinement& display,
+                                  const std::atomic<bool>* cancel,
+                                  const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
+    const GatherOutcome outcome = gather_point_values(std::as_const(mesh), visibility, res, mode, cancel, progress);
+    if (outcome != GatherOutcome::gathered || mode != "vertices" || !(display.tolerance > 0)) return outcome;
+    const auto start = std::chrono::steady_clock::now();
+    refine_patch_display(mesh, res, visibility, display, cancel, [&](std::size_t d, std::size_t t) {
+        if (progress) progress("gathering: display refinement", d, t);
+    });
+    res.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (cancel && cancel->load()) {
+        res.point_radiosity.clear();
+        return GatherOutcome::interrupted;
+    }
+    return outcome;
 }
 
 }  // namespace bounce

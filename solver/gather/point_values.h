@@ -11,6 +11,7 @@
 
 #include "mesh/patch_mesh.h"
 #include "solver/gather/final_gather.h"
+#include "solver/gather/patch_display_refinement.h"
 #include "solver/linear/solve_result.h"
 #include "solver/visibility/visibility.h"
 
@@ -59,6 +60,14 @@ void check_gather_mode(const std::string& mode);
 /// std::invalid_argument on an unknown mode, listing the valid ones.
 GatherOutcome gather_point_values(const PatchMesh& mesh, const Visibility& visibility, SolveResult& res,
                                   const std::string& mode, const std::atomic<bool>* cancel = nullptr,
+                                  const std::function<void(const char*, std::size_t, std::size_t)>& progress = {});
+
+/// gather_point_values, then, in mode "vertices" with a positive tolerance, display
+/// refinement (refine_patch_display: `mesh` may become a finer mesh of display cells, and the
+/// per-patch arrays of `res` follow it; progress stage "gathering: display refinement").
+GatherOutcome gather_point_values(PatchMesh& mesh, const Visibility& visibility, SolveResult& res,
+                                  const std::string& mode, const PatchDisplayRefinement& display,
+                                  const std::atomic<bool>* cancel = nullptr,
                                   const std::function<void(const char*, std::size_t, std::size_t)>& progress = {});
 
 }  // namespace bounce

@@ -409,7 +409,7 @@ TEST(Cli, LimitsAndAbsurdSettingsAreRefusedBeforeWorkStarts) {
         {"--solver hierarchical --power-epsilon 2", "error: --power-epsilon: out of range, got 2"},
         {"--solver hierarchical --display-tolerance -1", "error: --display-tolerance: out of range, got -1"},
         {"--solver hierarchical --display-tolerance 0.01 --gather none", "it needs --gather vertices (got none)"},
-        {"--display-tolerance 0.01", "--display-tolerance applies to the hierarchical solver"},
+        {"--display-tolerance 0.01 --series 5", "--display-tolerance does not combine with --elements or --series"},
         {"--max-area 1e-6", "1.93745e+12 patches"},  // ~10^12 patches
         {"--hemicube-res 1000000 --form-factors hemicube", "--hemicube-res"},
         {"--form-factors hemicube --hemicube-res 4096 --max-memory 100", "hemicube buffers"},
@@ -525,6 +525,16 @@ TEST(Cli, AdaptiveAndHierarchicalWriteConformingElementMeshes) {
         return at == std::string::npos ? -1L : std::stol(vtu.substr(at + 15));
     };
     EXPECT_GT(cells(slurp(dir / "d.vtu")), cells(slurp(dir / "p.vtu")));
+    // The patch solvers refine for display too: more cells, the same patches shot.
+    const auto patches_shown =
+        bounce_run("solve --patches 300 --display-tolerance 0.02 --ascii -o " + (dir / "pd.vtu").string());
+    ASSERT_EQ(patches_shown.exit_code, 0) << patches_shown.err;
+    EXPECT_NE(patches_shown.out.find("display refinement: "), std::string::npos) << patches_shown.out;
+    const auto patches_plain = bounce_run("solve --patches 300 --display-tolerance 0 --ascii -o " +
+                                          (dir / "pp.vtu").string());
+    ASSERT_EQ(patches_plain.exit_code, 0) << patches_plain.err;
+    EXPECT_EQ(patches_plain.out.find("display refinement: "), std::string::npos) << patches_plain.out;
+    EXPECT_GT(cells(slurp(dir / "pd.vtu")), cells(slurp(dir / "pp.vtu")));
     const auto flat = bounce_run("solve --solver hierarchical --no-clustering --max-level 1 --gather none -o " +
                                  (dir / "f.vtu").string());
     ASSERT_EQ(flat.exit_code, 0) << flat.err;

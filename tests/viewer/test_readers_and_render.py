@@ -170,9 +170,10 @@ class PointsInUse(unittest.TestCase):
             "hierarchical": ["--solver", "hierarchical"],
             "adaptive": ["--adaptive"],
             "display": ["--solver", "hierarchical", "--display-tolerance", "0.0025"],
+            "patch display": ["--display-tolerance", "0.02"],
         }
         for name, args in runs.items():
-            vtu = os.path.join(TMP, f"used_{name}.vtu")
+            vtu = os.path.join(TMP, f"used_{name.replace(' ', '_')}.vtu")
             r = bounce("solve", "-q", "-o", vtu, *args)
             self.assertEqual(r.returncode, 0, r.stderr)
             g = self.assert_every_point_used(vtu)

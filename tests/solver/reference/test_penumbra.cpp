@@ -96,3 +96,49 @@ TEST(Penumbra, AdaptivePointDataFollowsABlockersPenumbra) {
     ASSERT_EQ(s.scored, reference.size());
     EXPECT_LE(s.max_smooth, 0.03);
 }
+
+TEST(Penumbra, DisplayRefinementFollowsThePenumbraOnCoarsePatches) {
+    // About 300 patches: the penumbra (1 wide) spans three or four of them, and linear
+    // interpolation between their vertices misses its curve; display cells gathered at their
+    // own vertices follow it, while the patch values and the energy stay the solve's. (What
+    // is left is the gather's: 16 rays to each of the lamp's dozen patches.)
+    const Scene scene = blocked_lamp();
+    MeshingOptions coarse;
+    coarse.target_patches = 300;
+    const PatchMesh mesh(scene, coarse);
+    const auto visibility = make_visibility("embree", mesh.patches());
+    const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
+    const SolveResult solved = ShootingSolver(mesh.patches(), *ff, SolverOptions{}).solve();
+    const auto reference = exact_penumbra();
+    SolveResult plain = solved;
+    ASSERT_EQ(gather_point_values(mesh, *visibility, plain, "vertices"), GatherOutcome::gathered);
+    const ProbeScore before = score_at_probes(mesh, plain.radiosity, reference, plain.point_radiosity);
+    PatchMesh cells = mesh;
+    SolveResult refined = solved;
+    ASSERT_EQ(gather_point_values(cells, *visibility, refined, "vertices", PatchDisplayRefinement{0.02}),
+              GatherOutcome::gathered);
+    const ProbeScore after = score_at_probes(cells, refined.radiosity, reference, refined.point_radiosity);
+    std::cout << mesh.size() << " patches: point data " << before.rms_smooth << " RMS, " << before.max_smooth
+              << " worst; " << cells.size() << " display cells: " << after.rms_smooth << " RMS, " << after.max_smooth
+              << " worst\n";
+    ASSERT_EQ(after.scored, reference.size());
+    EXPECT_GT(before.max_smooth, 0.2);
+    EXPECT_LE(after.max_smooth, 0.05);
+    EXPECT_LE(after.rms_smooth, 0.02);
+    EXPECT_GT(cells.size(), mesh.size());
+    ASSERT_EQ(refined.radiosity.size(), cells.size());
+    ASSERT_EQ(refined.point_radiosity.size(), cells.mesh().n_vertices());
+    // The cells tile the patches and carry their radiosity: area and power as solved.
+    double area = 0, cell_area = 0;
+    Rgb power, cell_power;
+    for (std::size_t i = 0; i < mesh.size(); ++i) {
+        area += mesh.patches()[i].area;
+        power += solved.radiosity[i] * mesh.patches()[i].area;
+    }
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        cell_area += cells.patches()[i].area;
+        cell_power += refined.radiosity[i] * cells.patches()[i].area;
+    }
+    EXPECT_NEAR(cell_area, area, 1e-12 * area);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(cell_power[c], power[c], 1e-12 * power[c]);
+}

@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: MIT
+#include "solver/gather/patch_display_refinement.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "mesh/element_tree.h"
+#include "solver/gather/final_gather.h"
+#include "solver/gather/point_values.h"
+#include "solver/gather/point_values_by_position.h"
+
+namespace bounce {
+namespace {
+
+/// A point a split adds, at parameters uv of the node's root, and the corners (indices into
+/// the node's corners; -1 unused) whose mean is the linear interpolation there: an edge's
+/// two ends for its midpoint, all four for a quad's centre (bilinear).
+struct SplitPoint {
+    glm::dvec2 uv;
+    std::array<int, 4> corners;
+};
+
+std::vector<SplitPoint> split_points(const ElementTree::Node& n) {
+    const auto& c = n.corners;
+    const auto mid = [&](int a, int b) { return SplitPoint{0.5 * (c[a] + c[b]), {a, b, -1, -1}}; };
+    if (n.corner_count == 4)
+        return {mid(0, 1), mid(1, 2), mid(2, 3), mid(3, 0), {0.25 * (c[0] + c[1] + c[2] + c[3]), {0, 1, 2, 3}}};
+    return {mid(0, 1), mid(1, 2), mid(2, 0)};
+}
+
+/// Per new point of a split node (split_points' order), how far the value gathered there
+/// misses the interpolation between the node's corners, as a share of max(value,
+/// interpolation, floor); 0 where a value is unknown.
+std::vector<double> split_misses(const ElementTree& tree, const PointValues& known, std::uint32_t node, int surface,
+                                 double floor) {
+    const ElementTree::Node& n = tree.node(node);
+    const std::vector<SplitPoint> points = split_points(n);
+    std::vector<double> out(points.size(), 0.0);
+    std::array<double, 4> corner{};
+    for (int k = 0; k < n.corner_count; ++k) {
+        const Rgb* v = known.find(surface, tree.point(n.root, n.corners[std::size_t(k)]));
+        if (!v) return out;
+        corner[std::size_t(k)] = v->luminance();
+    }
+    for (std::size_t q = 0; q < points.size(); ++q) {
+        const Rgb* v = known.find(surface, tree.point(n.root, points[q].uv));
+        if (!v) continue;
+        double sum = 0.0;
+        int count = 0;
+        for (const int k : points[q].corners)
+            if (k >= 0) {
+                sum += corner[std::size_t(k)];
+                ++count;
+            }
+        const double interpolated = sum / count, value = v->luminance();
+        out[q] = std::abs(value - interpolated) / std::max({value, interpolated, floor});
+    }
+    return out;
+}
+
+/// True when child `c` of a split node has a corner at one of the node's new points that
+/// missed by more than `tolerance`: the light bends there, so the child may need a split too.
+bool child_touches_a_miss(const ElementTree& tree, std::uint32_t node, std::uint32_t c,
+                          const std::vector<double>& misses, double tolerance) {
+    const std::vector<SplitPoint> points = split_points(tree.node(node));
+    const ElementTree::Node& child = tree.node(c);
+    for (std::size_t q = 0; q < points.size(); ++q) {
+        if (misses[q] <= tolerance) continue;
+        for (int k = 0; k < child.corner_count; ++k) {
+            const glm::dvec2 d = child.corners[std::size_t(k)] - points[q].uv;
+            if (std::abs(d.x) + std::abs(d.y) < 1e-12) return true;
+        }
+    }
+    return false;
+}
+
+/// Gathers, from the solved patches, every vertex of `mesh` not yet in `known`, and adds it.
+/// False when `cancel` was set.
+bool gather_new_vertices(const PatchMesh& mesh, const std::vector<Patch>& sources, const std::vector<Rgb>& radiosity,
+                         const Visibility& visibility, PointValues& known, const std::atomic<bool>* cancel,
+                         const std::function<void(std::size_t, std::size_t)>& progress) {
+    const std::vector<GatherPoint> points = vertex_gather_points(mesh);
+    std::vector<GatherPoint> todo;
+    std::vector<glm::dvec3> at;
+    for (std::size_t v = 0; v < points.size(); ++v)
+        if (!known.find(points[v].surface, mesh.vertex_position(v))) {
+            todo.push_back(points[v]);
+            at.push_back(mesh.vertex_position(v));
+        }
+    if (todo.empty()) return true;
+    const std::vector<Rgb> gathered =
+        final_gather(sources, radiosity, visibility, todo, point_value_options(), cancel, progress);
+    if (cancel && cancel->load()) return false;
+    for (std::size_t q = 0; q < todo.size(); ++q) known.add(todo[q].surface, {at[q], gathered[q]});
+    return true;
+}
+
+/// Per-patch values spread to the cells: each cell carries its root patch's value.
+void spread_to_cells(std::vector<Rgb>& values, std::size_t patches, const ElementTree& tree,
+                     const std::vector<std::uint32_t>& cells) {
+    if (values.size() != patches) return;
+    std::vector<Rgb> out(cells.size());
+    for (std::size_t k = 0; k < cells.size(); ++k) out[k] = values[tree.node(cells[k]).root];
+    values = std::move(out);
+}
+
+}  // namespace
+
+std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibility& visibility,
+                                 const PatchDisplayRefinement& options, const std::atomic<bool>* cancel,
+                                 const std::function<void(std::size_t, std::size_t)>& progress) {
+    if (!(options.tolerance > 0) || options.max_depth < 1) return 0;
+    const std::vector<Patch> sources = mesh.patches();
+    const std::size_t n = sources.size();
+    if (n == 0 || res.radiosity.size() != n || res.point_radiosity.size() != mesh.mesh().n_vertices()) return 0;
+    const std::vector<Rgb> radiosity = res.radiosity;
+    ElementTree tree(sources);
+    PointValues known(tree.weld());
+    std::vector<std::uint8_t> added(res.point_radiosity.size(), 0);
+    double area = 0.0, power = 0.0;
+    std::vector<std::uint32_t> active;  // nodes to try a split of
+    for (std::size_t p = 0; p < n; ++p) {
+        area += sources[p].area;
+        power += sources[p].area * radiosity[p].luminance();
+    }
+    const double floor = 0.01 * power / area;
+    for (std::size_t p = 0; p < n; ++p) {
+        double corners = 0.0;
+        const std::vector<int> vertices = mesh.patch_vertex_indices(p);
+        for (const int v : vertices) {
+            corners += res.point_radiosity[std::size_t(v)].luminance();
+            if (!added[std::size_t(v)]) {
+                known.add(sources[p].surface,
+                          {mesh.vertex_position(std::size_t(v)), res.point_radiosity[std::size_t(v)]});
+                added[std::size_t(v)] = 1;
+            }
+        }
+        corners /= double(vertices.size());
+        const double b = radiosity[p].luminance();
+        if (std::abs(b - corners) > options.tolerance * std::max({b, corners, floor}))
+            active.push_back(std::uint32_t(p));
+    }
+    std::vector<std::uint32_t> cells(n);
+    std::iota(cells.begin(), cells.end(), 0u);
+    double pairs = 0.0;
+    for (int depth = 1; depth <= options.max_depth && !active.empty(); ++depth) {
+        // Split the active cells (children in their parent's place) and gather what that adds.
+        std::vector<std::uint8_t> splitting(tree.size(), 0);
+        for (const std::uint32_t a : active) splitting[a] = 1;
+        std::vector<std::uint32_t> trial;
+        trial.reserve(cells.size() + 3 * active.size());
+        for (const std::uint32_t c : cells) {
+            if (!splitting[c]) {
+                trial.push_back(c);
+                continue;
+            }
+            const std::size_t first = tree.split(c);
+            for (std::size_t k = 0; k < 4; ++k) trial.push_back(std::uint32_t(first + k));
+        }
+        // At most five new points per split, each gathering over every patch.
+        pairs += 5.0 * double(active.size()) * double(n);
+        if (pairs > kMaxGatherPairs) break;
+        const PatchMesh next = tree.conforming_mesh(trial);
+        if (!gather_new_vertices(next, sources, radiosity, visibility, known, cancel, progress)) return 0;
+        // Keep the splits whose new points the interpolation misses; the others go back to
+        // their parent (its gathered points are then left unused).
+        std::vector<std::uint8_t> undo(tree.size(), 0);
+        std::vector<std::uint32_t> next_active;
+        for (const std::uint32_t a : active) {
+            const ElementTree::Node& node = tree.node(a);
+            const std::vector<double> misses = split_misses(tree, known, a, sources[node.root].surface, floor);
+            if (*std::max_element(misses.begin(), misses.end()) <= options.tolerance) {
+                undo[a] = 1;
+                continue;
+            }
+            for (std::int32_t k = 0; k < 4; ++k) {
+                const auto child = std::uint32_t(node.first_child + k);
+                if (child_touches_a_miss(tree, a, child, misses, options.tolerance)) next_active.push_back(child);
+            }
+        }
+        cells.clear();
+        for (const std::uint32_t t : trial) {
+            const std::int32_t parent = tree.node(t).parent;
+            if (parent >= 0 && undo[std::size_t(parent)]) {
+                if (std::int32_t(t) == tree.node(std::size_t(parent)).first_child)
+                    cells.push_back(std::uint32_t(parent));
+                continue;
+            }
+            cells.push_back(t);
+        }
+        active = std::move(next_active);
+    }
+    if (cells.size() == n) return 0;
+    PatchMesh refined = tree.conforming_mesh(cells);
+    if (!gather_new_vertices(refined, sources, radiosity, visibility, known, cancel, progress)) return 0;
+    const std::vector<GatherPoint> points = vertex_gather_points(refined);
+    std::vector<Rgb> values(points.size());
+    for (std::size_t v = 0; v < points.size(); ++v)
+        if (const Rgb* known_value = known.find(points[v].surface, refined.vertex_position(v)))
+            values[v] = *known_value;
+    for (std::vector<Rgb>* per_patch : {&res.radiosity, &res.irradiance, &res.unshot, &res.display})
+        spread_to_cells(*per_patch, n, tree, cells);
+    res.point_radiosity = std::move(values);
+    mesh = std::move(refined);
+    return cells.size() - n;
+}
+
+}  // namespace bounce

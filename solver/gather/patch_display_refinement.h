@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+// Display refinement of a patch solution's point data: where linear interpolation between a
+// patch's gathered vertices misses the light inside it (a shadow line through it, a corner
+// darkening towards a contact), the patch is cut into display cells whose new vertices are
+// gathered too, as adaptive sampling of B(x) for display (the patch solvers' counterpart of
+// DisplayRefinement in hierarchical_point_values.h).
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+
+#include "mesh/patch_mesh.h"
+#include "solver/linear/solve_result.h"
+#include "solver/visibility/visibility.h"
+
+namespace bounce {
+
+struct PatchDisplayRefinement {
+    /// A cell is kept split where the value gathered at one of its new points (an edge's
+    /// midpoint, a quad's centre) differs from the linear interpolation between its corners by
+    /// more than this share of the larger of the two (or of a hundredth of the scene's mean
+    /// radiosity, where both are darker). 0: off.
+    double tolerance = 0.0;
+    /// Splits below each patch: each halves the cells' edges.
+    int max_depth = 2;
+};
+
+/// The display tolerance the patch solvers gather with unless one is given.
+inline constexpr double kPatchDisplayTolerance = 0.02;
+
+/// After gather_point_values in mode "vertices" (res.point_radiosity per vertex of `mesh`):
+/// tries a split of every patch whose radiosity (its mean, from the solve) differs from the
+/// mean of its vertices' values by more than the tolerance (interpolation misrepresents it),
+/// gathers the split's new vertices from the solved patches, keeps the split where one of them
+/// misses the interpolation by more than the tolerance and tries the kept cells again, down to
+/// max_depth. Then replaces `mesh` by the cells' conforming mesh (ElementTree::conforming_mesh)
+/// and spreads the per-patch arrays of `res` (radiosity, irradiance, unshot, display) to the
+/// cells, which carry their patch's values: the energy account and the patch values are the
+/// solve's; only the point data gains. Returns the cells added; 0, leaving both unchanged,
+/// when the tolerance is 0, nothing misses, `cancel` was set, or the new vertices would take
+/// more than kMaxGatherPairs vertex-patch pairs. `progress` receives each depth's gather.
+std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibility& visibility,
+                                 const PatchDisplayRefinement& options, const std::atomic<bool>* cancel = nullptr,
+                                 const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+}  // namespace bounce
