@@ -237,6 +237,7 @@ int run_compare_meshes(const CommonOptions& o, const CompareCommand& c) {
             const auto uv = make_visibility(o.visibility, um.patches(), specular_occluders(scene));
             const auto ff = make_form_factor_estimator("raycast", um.patches(), uv.get(), c.ff);
             SolverOptions so;
+            so.tolerance = c.options.tolerance;  // --tolerance, as solve's
             so.cancel = &g_interrupted;
             const SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
             const double solved = seconds_since(t0);

@@ -300,18 +300,18 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
     res.form_factors = s.method;
     if (matrix) res.seconds += matrix->seconds();
     double gather_seconds = 0.0;
+    const std::size_t solved = mesh.size();
     if (s.gather != "none" && !g_interrupted.load()) {
         const double before = res.seconds;
         PatchDisplayRefinement display;
-        display.tolerance = display_given ? s.display.tolerance : 0.0;
-        const std::size_t solved = mesh.size();
+        // Off by default where the mesh must stay the solved one (a series' frames, elements).
+        display.tolerance = display_given                         ? s.display.tolerance
+                            : s.element_split > 1 || s.series > 0 ? 0.0
+                                                                  : kPatchDisplayTolerance;
         gather_point_values(mesh, *visibility, res, s.gather, display, o.quiet);
         gather_seconds = res.seconds - before;
         if (display.tolerance > 0)
             settings << " display_tolerance=" << display.tolerance << " display_cells=" << mesh.size();
-        if (mesh.size() != solved && !o.quiet)
-            std::cout << "display refinement: " << mesh.size() - solved
-                      << " more cells (the point data gathered at their vertices)\n";
     }
     res.seconds = seconds_since(start);
 
@@ -339,8 +339,9 @@ int run_solve(const CommonOptions& o, const SolveCommand& s) {
                               ExportInfo{o.scene, settings.str(), s.meshio, scene.units}, s.render);
     if (!s.log_csv.empty()) write_log_csv(s.log_csv, {res}, {s.method}, {matrix ? matrix->seconds() : 0.0});
     if (!o.quiet) {
-        std::cout << "patches " << (elements ? std::to_string(shooters->size()) + ", elements " : "") << mesh.size()
-                  << ", " << s.solver << " " << res.steps << (s.solver == "shooting" ? " shots" : " sweeps");
+        std::cout << "patches " << (elements ? std::to_string(shooters->size()) + ", elements " : "") << solved
+                  << (mesh.size() != solved ? " (" + std::to_string(mesh.size()) + " display cells)" : "") << ", "
+                  << s.solver << " " << res.steps << (s.solver == "shooting" ? " shots" : " sweeps");
         if (s.solver == "shooting")
             std::cout << ", unshot fraction " << res.unshot_fraction << ", estimated error " << res.error_estimate;
         if (res.residual >= 0) std::cout << ", residual " << res.residual;
@@ -405,7 +406,8 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                          "split cells for display where linear interpolation between their vertices, as ParaView shows "
                          "the point data, would miss the light inside them by more than this share, and gather the new "
                          "vertices (patch solvers: new points tried down to 2 splits a patch; hierarchical: the "
-                         "element's centre value); 0: off (default: 0.0025 with --adaptive, else 0)")
+                         "element's centre value); 0: off (default: 0.02 with the patch solvers but for "
+                         "--elements and --series, 0.0025 with --adaptive, 0 with --solver hierarchical)")
             ->check(in_range(0.0, 1.0));
     solve_cmd
         ->add_option("--refine-rounds", solve->hierarchical.refine_rounds,

@@ -98,6 +98,23 @@ int grid_side(int want) {
     return std::max(1, int(std::lround(std::sqrt(double(want)))));
 }
 
+/// A sample's share of its patch's radiosity, per channel: the interpolation of the corner
+/// values at unit-square coordinates (u, v) (patch_point's: bilinear for quads, barycentric
+/// through the square-root warp for triangles) over their mean, 1 where the mean is 0.
+Rgb corner_shape(const Patch& p, const Rgb* corners, const Rgb& mean, double u, double v) {
+    Rgb at;
+    if (p.vertex_count == 4) {
+        at = corners[0] * ((1 - u) * (1 - v)) + corners[1] * (u * (1 - v)) + corners[2] * (u * v) +
+             corners[3] * ((1 - u) * v);
+    } else {
+        const double su = std::sqrt(u);
+        at = corners[0] * (1 - su) + corners[1] * (su * (1 - v)) + corners[2] * (su * v);
+    }
+    Rgb out;
+    for (int c = 0; c < 3; ++c) out[c] = mean[c] > 0 ? at[c] / mean[c] : 1.0;
+    return out;
+}
+
 /// Every source patch's card: what the gather reads of it for each point, packed.
 std::vector<SourceCard> source_cards(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
                                      const PointFactor& factor, const GatherSources* sources) {
@@ -136,6 +153,9 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
     const double lift = visibility.offset();
     const PointFactor factor(patches, options.kernel_tolerance);
     const std::vector<SourceCard> cards = source_cards(patches, radiosity, factor, sources);
+    if (!options.source_corners.empty() && options.source_corners.size() != 4 * patches.size())
+        throw std::invalid_argument("final gather: source corners must be 4 per patch");
+    const bool shapes = !options.source_corners.empty();
     tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
         if (cancel && cancel->load(std::memory_order_relaxed)) return;
         const GatherPoint& x = points[i];
@@ -146,12 +166,15 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
         struct Term {
             std::size_t patch, first, count;
             double f0;
+            bool shaped;  // weights[first .. first + count) hold the samples' shape (GatherOptions::source_corners)
         };
         thread_local std::vector<Term> terms;
         thread_local std::vector<Visibility::Segment> segments;
         thread_local std::vector<double> kernel;
         thread_local std::vector<std::uint8_t> blocked;
+        thread_local std::vector<Rgb> weights;
         terms.clear();
+        weights.clear();
         segments.clear();
         kernel.clear();
         const glm::dvec3 from = x.position + lift * x.normal;
@@ -184,10 +207,21 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
             int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
             if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
             const int side = grid_side(want);
-            terms.push_back({j, segments.size(), std::size_t(side * side), f0});
+            const bool shaped = shapes && distance < options.shape_within * c.radius;
+            Rgb mean;
+            if (shaped) {
+                weights.resize(segments.size());
+                for (int k = 0; k < p.vertex_count; ++k) mean += options.source_corners[4 * j + std::size_t(k)];
+                mean *= 1.0 / p.vertex_count;
+            }
+            terms.push_back({j, segments.size(), std::size_t(side * side), f0, shaped});
             for (int a = 0; a < side; ++a)
                 for (int b = 0; b < side; ++b) {
-                    const glm::dvec3 y = patch_point(p, (a + rng.uniform()) / side, (b + rng.uniform()) / side);
+                    // v drawn first: the order the call patch_point(p, u(), v()) evaluated them in.
+                    const double v = (b + rng.uniform()) / side;
+                    const double u = (a + rng.uniform()) / side;
+                    const glm::dvec3 y = patch_point(p, u, v);
+                    if (shaped) weights.push_back(corner_shape(p, &options.source_corners[4 * j], mean, u, v));
                     const glm::dvec3 d = y - x.position;
                     const double r2 = glm::dot(d, d);
                     kernel.push_back(std::max(0.0, glm::dot(x.normal, d)) * std::max(0.0, -glm::dot(p.normal, d)) /
@@ -233,6 +267,13 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
             }
             // All samples at zero kernel (grazing): the plain open fraction. No rays: unblocked.
             const double share = t.count == 0 ? 1.0 : total > 0 ? open / total : double(open_rays) / double(t.count);
+            if (t.shaped && total > 0) {
+                Rgb shaped_open;
+                for (std::size_t s = t.first; s < t.first + t.count; ++s)
+                    if (!blocked[s]) shaped_open += weights[s] * kernel[s];
+                gathered += radiosity[t.patch] * shaped_open * (t.f0 / total);
+                continue;
+            }
             gathered += radiosity[t.patch] * (t.f0 * share);
         }
         if (sources && !sources->irradiance.empty()) gathered += sources->irradiance[list];

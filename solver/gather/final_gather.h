@@ -44,6 +44,15 @@ struct GatherOptions {
     /// the Bernstein bound of separation_rho predicts for this relative tolerance; no
     /// trigonometry, so several times cheaper. gather_point_values uses 1e-4.
     double kernel_tolerance = 0.0;
+    /// Optional, 4 per patch (patch j's corners at 4 j .. 4 j + 3, in its vertex order; a
+    /// triangle's fourth unused): the radiosity at each patch's corners, such as its vertices'
+    /// gathered values. A source nearer a point than `shape_within` times its circumradius
+    /// then sends B_j shaped by the interpolation of its corners (each ray's sample weighted
+    /// by the interpolated value over the corners' mean, so the patch's power is unchanged):
+    /// beside a contact the near strip of a wall is darker than the wall patch's mean, and a
+    /// point there sees mostly that strip. Empty: every source sends its mean.
+    std::span<const Rgb> source_corners = {};
+    double shape_within = 2.0;
 };
 
 /// B(x) = E(x) + rho(x) * sum_j F(x -> j) B_j for every point, with

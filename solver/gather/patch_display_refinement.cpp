@@ -8,6 +8,9 @@
 #include <numeric>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
 #include "mesh/element_tree.h"
@@ -83,7 +86,8 @@ bool child_touches_a_miss(const ElementTree& tree, std::uint32_t node, std::uint
 /// Gathers, from the solved patches, every vertex of `mesh` not yet in `known`, and adds it.
 /// False when `cancel` was set.
 bool gather_new_vertices(const PatchMesh& mesh, const std::vector<Patch>& sources, const std::vector<Rgb>& radiosity,
-                         const Visibility& visibility, PointValues& known, const std::atomic<bool>* cancel,
+                         const Visibility& visibility, const GatherOptions& options, PointValues& known,
+                         const std::atomic<bool>* cancel,
                          const std::function<void(std::size_t, std::size_t)>& progress) {
     const std::vector<GatherPoint> points = vertex_gather_points(mesh);
     std::vector<GatherPoint> todo;
@@ -94,11 +98,57 @@ bool gather_new_vertices(const PatchMesh& mesh, const std::vector<Patch>& source
             at.push_back(mesh.vertex_position(v));
         }
     if (todo.empty()) return true;
-    const std::vector<Rgb> gathered =
-        final_gather(sources, radiosity, visibility, todo, point_value_options(), cancel, progress);
+    const std::vector<Rgb> gathered = final_gather(sources, radiosity, visibility, todo, options, cancel, progress);
     if (cancel && cancel->load()) return false;
     for (std::size_t q = 0; q < todo.size(); ++q) known.add(todo[q].surface, {at[q], gathered[q]});
     return true;
+}
+
+/// Per patch, its vertices' values at its corners (GatherOptions::source_corners).
+std::vector<Rgb> corner_values(const PatchMesh& mesh, const std::vector<Rgb>& point_values) {
+    std::vector<Rgb> out(4 * mesh.size());
+    for (std::size_t p = 0; p < mesh.size(); ++p) {
+        const std::vector<int> vertices = mesh.patch_vertex_indices(p);
+        for (std::size_t k = 0; k < vertices.size() && k < 4; ++k)
+            out[4 * p + k] = point_values[std::size_t(vertices[k])];
+    }
+    return out;
+}
+
+/// The vertices that have a source of another surface within `within` of its circumradius
+/// in front of them whose corners differ by more than `tolerance` of the brightest: their
+/// values change when those sources send their shape (beside a contact, a wall's strip).
+std::vector<std::size_t> vertices_beside_shaped_sources(const std::vector<GatherPoint>& points,
+                                                        const std::vector<Patch>& patches,
+                                                        const std::vector<Rgb>& corners, double within,
+                                                        double tolerance) {
+    std::vector<std::uint32_t> shaped;
+    for (std::size_t j = 0; j < patches.size(); ++j) {
+        double lo = 1e300, hi = 0.0;
+        for (int k = 0; k < patches[j].vertex_count; ++k) {
+            const double l = corners[4 * j + std::size_t(k)].luminance();
+            lo = std::min(lo, l);
+            hi = std::max(hi, l);
+        }
+        if (hi - lo > tolerance * hi) shaped.push_back(std::uint32_t(j));
+    }
+    std::vector<std::uint8_t> near(points.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64), [&](const auto& range) {
+        for (std::size_t v = range.begin(); v != range.end(); ++v)
+            for (const std::uint32_t j : shaped) {
+                const Patch& p = patches[j];
+                if (p.surface == points[v].surface || p.height(points[v].position) <= 0) continue;
+                const double r = circumradius(p);
+                if (glm::length(points[v].position - p.centre) < within * r) {
+                    near[v] = 1;
+                    break;
+                }
+            }
+    });
+    std::vector<std::size_t> out;
+    for (std::size_t v = 0; v < points.size(); ++v)
+        if (near[v]) out.push_back(v);
+    return out;
 }
 
 /// Per-patch values spread to the cells: each cell carries its root patch's value.
@@ -120,6 +170,23 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     const std::size_t n = sources.size();
     if (n == 0 || res.radiosity.size() != n || res.point_radiosity.size() != mesh.mesh().n_vertices()) return 0;
     const std::vector<Rgb> radiosity = res.radiosity;
+    // Near sources send their shape, from the vertices' values: first to the vertices beside
+    // them, gathered again, then to every new point.
+    std::vector<Rgb> corners = corner_values(mesh, res.point_radiosity);
+    GatherOptions shaped = point_value_options();
+    shaped.source_corners = corners;
+    {
+        const std::vector<GatherPoint> points = vertex_gather_points(mesh);
+        const std::vector<std::size_t> again =
+            vertices_beside_shaped_sources(points, sources, corners, shaped.shape_within, options.tolerance);
+        std::vector<GatherPoint> todo;
+        for (const std::size_t v : again) todo.push_back(points[v]);
+        const std::vector<Rgb> gathered = final_gather(sources, radiosity, visibility, todo, shaped, cancel, progress);
+        if (cancel && cancel->load()) return 0;
+        for (std::size_t q = 0; q < again.size(); ++q) res.point_radiosity[again[q]] = gathered[q];
+        corners = corner_values(mesh, res.point_radiosity);
+        shaped.source_corners = corners;
+    }
     ElementTree tree(sources);
     PointValues known(tree.weld());
     std::vector<std::uint8_t> added(res.point_radiosity.size(), 0);
@@ -167,7 +234,7 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
         pairs += 5.0 * double(active.size()) * double(n);
         if (pairs > kMaxGatherPairs) break;
         const PatchMesh next = tree.conforming_mesh(trial);
-        if (!gather_new_vertices(next, sources, radiosity, visibility, known, cancel, progress)) return 0;
+        if (!gather_new_vertices(next, sources, radiosity, visibility, shaped, known, cancel, progress)) return 0;
         // Keep the splits whose new points the interpolation misses; the others go back to
         // their parent (its gathered points are then left unused).
         std::vector<std::uint8_t> undo(tree.size(), 0);
@@ -198,7 +265,7 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     }
     if (cells.size() == n) return 0;
     PatchMesh refined = tree.conforming_mesh(cells);
-    if (!gather_new_vertices(refined, sources, radiosity, visibility, known, cancel, progress)) return 0;
+    if (!gather_new_vertices(refined, sources, radiosity, visibility, shaped, known, cancel, progress)) return 0;
     const std::vector<GatherPoint> points = vertex_gather_points(refined);
     std::vector<Rgb> values(points.size());
     for (std::size_t v = 0; v < points.size(); ++v)
