@@ -59,8 +59,8 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
         return run_two_pass_render(o, scene, mesh, r.output, r.render, r.two_pass);
     }
     if (scene.has_specular() && !o.quiet)
-        std::cerr << "bounce: note: " << r.input << ": the window shows the diffuse patches, without the light that "
-                  << "mirrors and glass redirect; bounce render " << r.input << " -o PICTURE.png draws them\n";
+        std::cerr << "bounce: note: " << r.input << ": the window shows mirrors and glass as plain solids, "
+                  << "without the light they redirect; bounce render " << r.input << " -o PICTURE.png draws it\n";
     const auto visibility = make_visibility(o.visibility, mesh.patches(), specular_occluders(scene));
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
     const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
