@@ -16,6 +16,7 @@
 #include "mesh/patch_mesh.h"
 #include "mesh/scene_loader.h"
 #include "solver/reference/path_tracer.h"
+#include "viewer/exr_writer.h"
 #include "viewer/eye_picture.h"
 #include "viewer/pending_output.h"
 
@@ -23,14 +24,14 @@ namespace bounce::app {
 
 int run_reference_image(const CommonOptions& o, const ReferenceImageOptions& r) {
     const std::filesystem::path out(r.output);
-    if (out.extension() != ".pfm")
+    if (!is_linear_picture(out))
         throw InputError(r.output + ": reference image format, got '" + out.extension().string() +
-                         "' (expected .pfm, linear radiance)");
+                         "' (expected .pfm or .exr, linear radiance)");
     if (!(r.camera.width > 0 && r.camera.height > 0))
         throw InputError("--size: picture size, got " + std::to_string(r.camera.width) + "x" +
                          std::to_string(r.camera.height) + " (expected positive WxH)");
     std::filesystem::path se_path = out;
-    se_path.replace_filename(out.stem().string() + "_se.pfm");
+    se_path.replace_filename(out.stem().string() + "_se" + out.extension().string());
     check_output(out);
     const auto start = std::chrono::steady_clock::now();
     const Scene scene = load_scene(o.scene, LoadOptions{o.flip, o.strict});
@@ -67,8 +68,8 @@ int run_reference_image(const CommonOptions& o, const ReferenceImageOptions& r) 
         progress.items("path tracing: rows", ++done, std::size_t(H));
     });
     progress.finish();
-    write_pfm(out, W, H, radiance);
-    write_pfm(se_path, W, H, error);
+    write_linear_picture(out, W, H, radiance);
+    write_linear_picture(se_path, W, H, error);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!o.quiet) {
         std::cout << W << " x " << H << " pixels, " << r.paths << " paths each, in " << seconds << " s\n";

@@ -12,6 +12,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include "viewer/camera.h"
+#include "viewer/exr_writer.h"
 #include "viewer/pending_output.h"
 #include "viewer/picture_writer.h"
 #include "viewer/solution_grid.h"
@@ -58,7 +59,7 @@ void write_pfm(const std::filesystem::path& path, int width, int height, const s
 
 void write_eye_picture(const EyeImage& image, const PatchMesh& mesh, const SolveResult& result, double exposure,
                        const std::filesystem::path& picture) {
-    if (picture.extension() == ".pfm") return write_pfm(picture, image.width, image.height, image.pixels);
+    if (is_linear_picture(picture)) return write_linear_picture(picture, image.width, image.height, image.pixels);
     check_picture_path(picture);
     std::vector<Rgb> emission;
     std::vector<double> area;

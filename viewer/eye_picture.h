@@ -25,7 +25,7 @@ PinholeCamera eye_camera(const PatchMesh& mesh, const SolveResult& result, const
 /// `pixels` are rows top to bottom, width * height of them.
 void write_pfm(const std::filesystem::path& path, int width, int height, const std::vector<Rgb>& pixels);
 
-/// Writes the picture (a .pfm: the linear radiance as it is, see write_pfm): radiance L times pi (the radiosity a
+/// Writes the picture (a .pfm or .exr: the linear radiance as it is, see write_linear_picture): radiance L times pi (the radiosity a
 /// diffuse surface of that radiance has) through the tone map `render` uses (exposure from the solution's patches:
 /// their mean non-emitting luminance at mid grey, times 2^exposure; 1 - exp(-x); sRGB), as 8-bit PNG or JPEG by the
 /// name's extension, through a temporary file renamed at the end.
