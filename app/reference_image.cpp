@@ -22,6 +22,29 @@
 
 namespace bounce::app {
 
+PinholeCamera scene_camera(const Scene& scene, const RenderOptions& camera) {
+    MeshingOptions whole;
+    whole.subdivide = false;
+    const PatchMesh faces(scene, whole);
+    SolveResult none;
+    none.radiosity.assign(faces.size(), Rgb());
+    return eye_camera(faces, none, {scene.name, "", false, scene.units}, camera);
+}
+
+PixelRays pixel_rays(const PinholeCamera& cam, int width, int height) {
+    const glm::dvec3 w = glm::normalize(cam.target - cam.position);
+    const glm::dvec3 u = glm::normalize(glm::cross(w, cam.up));
+    const glm::dvec3 v = glm::cross(u, w);
+    const double half_h = std::tan(0.5 * cam.vertical_fov * std::numbers::pi / 180.0);
+    const double half_w = half_h * double(width) / double(height);
+    PixelRays r;
+    r.origin = cam.position;
+    r.du = (2 * half_w / width) * u;
+    r.dv = -(2 * half_h / height) * v;
+    r.top_left = w - half_w * u + half_h * v;
+    return r;
+}
+
 int run_reference_image(const CommonOptions& o, const ReferenceImageOptions& r) {
     const std::filesystem::path out(r.output);
     if (!is_linear_picture(out))
@@ -35,23 +58,9 @@ int run_reference_image(const CommonOptions& o, const ReferenceImageOptions& r) 
     check_output(out);
     const auto start = std::chrono::steady_clock::now();
     const Scene scene = load_scene(o.scene, LoadOptions{o.flip, o.strict});
-    // The camera of `render`, chosen on the scene's faces.
-    MeshingOptions whole;
-    whole.subdivide = false;
-    const PatchMesh faces(scene, whole);
-    SolveResult none;
-    none.radiosity.assign(faces.size(), Rgb());
-    const PinholeCamera cam = eye_camera(faces, none, {scene.name, "", false, scene.units}, r.camera);
     const PathTracer tracer(scene);
-
     const int W = r.camera.width, H = r.camera.height;
-    const glm::dvec3 w = glm::normalize(cam.target - cam.position);
-    const glm::dvec3 u = glm::normalize(glm::cross(w, cam.up));
-    const glm::dvec3 v = glm::cross(u, w);
-    const double half_h = std::tan(0.5 * cam.vertical_fov * std::numbers::pi / 180.0);
-    const double half_w = half_h * double(W) / double(H);
-    const glm::dvec3 du = (2 * half_w / W) * u, dv = -(2 * half_h / H) * v;  // one pixel across, one down
-    const glm::dvec3 top_left = w - half_w * u + half_h * v;
+    const PixelRays rays = pixel_rays(scene_camera(scene, r.camera), W, H);
 
     std::vector<Rgb> radiance(std::size_t(W) * std::size_t(H)), error(radiance.size());
     std::atomic<std::size_t> done{0};
@@ -60,8 +69,8 @@ int run_reference_image(const CommonOptions& o, const ReferenceImageOptions& r) 
         if (g_interrupted.load(std::memory_order_relaxed)) return;
         for (int col = 0; col < W; ++col) {
             const std::size_t i = std::size_t(row) * std::size_t(W) + std::size_t(col);
-            const auto e = tracer.pixel_radiance(cam.position, top_left + double(col) * du + double(row) * dv, du, dv,
-                                                 r.paths, r.seed, i);
+            const auto e =
+                tracer.pixel_radiance(rays.origin, rays.corner(col, row), rays.du, rays.dv, r.paths, r.seed, i);
             radiance[i] = e.radiance;
             error[i] = e.standard_error;
         }
