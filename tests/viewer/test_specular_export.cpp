@@ -12,7 +12,9 @@
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkIdList.h>
+#include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkPNGReader.h>
 #include <vtkPointData.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
@@ -34,6 +36,25 @@ vtkSmartPointer<vtkUnstructuredGrid> solve_and_read(const test::TempDir& dir, co
     reader->Update();
     vtkSmartPointer<vtkUnstructuredGrid> g = reader->GetOutput();
     return g;
+}
+
+/// The share of the picture's pixels in the mirror's grey (R, G and B within a few levels of
+/// each other, not dark): the cream walls and floor of the box are not grey.
+double grey_share(const std::filesystem::path& png) {
+    vtkNew<vtkPNGReader> reader;
+    reader->SetFileName(png.string().c_str());
+    reader->Update();
+    vtkImageData* im = reader->GetOutput();
+    int dims[3];
+    im->GetDimensions(dims);
+    std::size_t grey = 0;
+    for (int y = 0; y < dims[1]; ++y)
+        for (int x = 0; x < dims[0]; ++x) {
+            const auto* p = static_cast<const unsigned char*>(im->GetScalarPointer(x, y, 0));
+            const int r = p[0], g = p[1], b = p[2];
+            grey += std::abs(r - g) < 8 && std::abs(g - b) < 10 && r > 60;
+        }
+    return double(grey) / (double(dims[0]) * dims[1]);
 }
 
 }  // namespace
@@ -99,4 +120,22 @@ TEST(SpecularExport, ADiffuseSceneHasNoMaterialKind) {
     vtkDataArray* surface = g->GetCellData()->GetArray("surface");
     ASSERT_NE(surface, nullptr);
     for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c) ASSERT_GE(surface->GetTuple1(c), 0) << c;
+}
+
+TEST(SpecularExport, RenderOfTheVtuDrawsTheMirrorSphere) {
+    const test::TempDir dir;
+    double share[2] = {0, 0};
+    int k = 0;
+    for (const std::string scene : {"cornell-spheres", "cornell"}) {
+        solve_and_read(dir, scene);
+        const auto png = dir / (scene + ".png");
+        const auto r = test::run(std::string(BOUNCE_EXE) + " render " + (dir / (scene + ".vtu")).string() + " -o " +
+                                 png.string() + " --size 200x200");
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        share[k++] = grey_share(png);
+    }
+    // The mirror ball (r = 100 mm, about 1.2 m from the Cornell camera) covers about 5% of the view.
+    std::printf("grey pixels: %.4f with the spheres, %.4f in the plain box\n", share[0], share[1]);
+    EXPECT_GT(share[0], 0.03);
+    EXPECT_LT(share[1], 0.01);
 }
