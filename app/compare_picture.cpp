@@ -73,7 +73,7 @@ double relative_rms(const std::vector<Rgb>& picture, const std::vector<Rgb>& ref
 }
 
 /// The path tracer's picture for a wall time: rounds of one path per pixel (pixel_sample,
-/// uniformly over the pixel) until `seconds` have passed since `start`, at least one round.
+/// uniformly over the pixel) until `seconds` have passed since it began, at least one round.
 struct Progressive {
     EyeImage image;
     std::uint64_t rounds = 0;
