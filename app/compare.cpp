@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "app/command.h"
+#include "app/compare_picture.h"
 #include "app/convergence_log.h"
 #include "app/point_values.h"
 #include "app/progress_line.h"
@@ -638,7 +639,10 @@ Command add_compare_command(CLI::App& app, CommonOptions& common) {
         ->check(CLI::IsMember(std::vector<std::string>{"vertices", "none"}))
         ->capture_default_str();
     add_form_factor_options(cmp_cmd, cmp->ff);
-    return {cmp_cmd, [&common, cmp] { return run_compare(common, *cmp); }};
+    const auto picture = add_compare_picture_options(cmp_cmd);
+    return {cmp_cmd, [&common, cmp, picture] {
+                return picture->enabled ? run_compare_picture(common, *picture, cmp->out) : run_compare(common, *cmp);
+            }};
 }
 
 }  // namespace bounce::app

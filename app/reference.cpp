@@ -139,8 +139,8 @@ Command add_reference_command(CLI::App& app, CommonOptions& common) {
     cmd->add_option("--threads", common.threads, "worker threads (0: all cores)")->capture_default_str();
     cmd->add_flag("-q,--quiet", common.quiet, "no progress and no summary");
     cmd->add_option("--image", r->image.output,
-                    "instead of points: a path-traced picture OUT.pfm (linear radiance) through render's camera, "
-                    "and its standard error per pixel in OUT_se.pfm");
+                    "instead of points: a path-traced picture OUT.pfm or OUT.exr (linear radiance) through render's "
+                    "camera, and its standard error per pixel in OUT_se.pfm or OUT_se.exr");
     cmd->add_option("--paths", r->image.paths, "--image: paths per pixel, whole batches of 64")
         ->capture_default_str()
         ->check(in_range(std::uint64_t(64), std::uint64_t(1) << 30));

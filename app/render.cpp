@@ -13,6 +13,7 @@
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/visibility/visibility.h"
+#include "viewer/exr_writer.h"
 
 namespace bounce::app {
 namespace {
@@ -22,14 +23,14 @@ bool is_vtu(const std::string& p) { return std::filesystem::path(p).extension() 
 }  // namespace
 
 int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive) {
-    // A .pfm holds linear radiance: only eye rays make one.
-    const bool linear = !interactive && std::filesystem::path(r.output).extension() == ".pfm";
+    // A .pfm or .exr holds linear radiance: only eye rays make one.
+    const bool linear = !interactive && is_linear_picture(r.output);
     if (!interactive) {
         check_output(r.output);
         if (!linear) check_picture_path(r.output);
         if (linear && is_vtu(r.input))
             throw InputError(r.output +
-                             ": a .pfm (linear radiance) is drawn by eye rays from a scene, not from a .vtu");
+                             ": a .pfm or .exr (linear radiance) is drawn by eye rays from a scene, not from a .vtu");
     }
     // A window nobody can see never closes: without a display, say so at once (exit 2)
     // instead of opening it on a private Xvfb. With --exit-after (demos, tests) it closes by
@@ -59,8 +60,8 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
         return run_two_pass_render(o, scene, mesh, r.output, r.render, r.two_pass);
     }
     if (scene.has_specular() && !o.quiet)
-        std::cerr << "bounce: note: " << r.input << ": the window shows the diffuse patches, without the light that "
-                  << "mirrors and glass redirect; bounce render " << r.input << " -o PICTURE.png draws them\n";
+        std::cerr << "bounce: note: " << r.input << ": the window shows mirrors and glass as plain solids, "
+                  << "without the light they redirect; bounce render " << r.input << " -o PICTURE.png draws it\n";
     const auto visibility = make_visibility(o.visibility, mesh.patches(), specular_occluders(scene));
     const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
     const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
@@ -78,7 +79,7 @@ Command add_render_command(CLI::App& app, CommonOptions& common) {
     render_cmd->add_option("input", rc->input, "IN.vtu, or a scene")->required();
     render_cmd
         ->add_option("-o,--output", rc->output,
-                     "output picture: .png, .jpg/.jpeg for JPEG, or .pfm for linear radiance (eye rays)")
+                     "output picture: .png, .jpg/.jpeg for JPEG, or .pfm or .exr for linear radiance (eye rays)")
         ->required();
     add_render_options(render_cmd, rc->render);
     add_two_pass_options(render_cmd, rc->two_pass);

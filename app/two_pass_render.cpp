@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
-#include <optional>
+#include <memory>
 
 #include "app/point_values.h"
 #include "app/progress_line.h"
@@ -39,17 +39,27 @@ void add_two_pass_options(CLI::App* cmd, TwoPassOptions& t) {
     cmd->add_option("--seed", t.seed, "eye rays: seed of the jitter and the photons (1)");
 }
 
-int run_two_pass_render(const CommonOptions& o, const Scene& scene, const PatchMesh& mesh, const std::string& picture,
-                        const RenderOptions& render, const TwoPassOptions& t) {
-    const auto start = std::chrono::steady_clock::now();
-    auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+namespace {
+
+/// The light pass: the radiosity of the diffuse patches with the caustic photons' power handed
+/// to the patches they reach, the caustic map, and the point data the eye pass interpolates.
+struct LightPass {
+    SolveResult res;
+    std::vector<Rgb> caustic_radiosity;     // rho Phi / A: the light the photons reflect off each patch
+    std::unique_ptr<CausticMap> caustics;   // none without photons
+    std::vector<Rgb> vertex, patch_values;  // B without the caustic term, per vertex and per patch
+    std::size_t emitted = 0;
+    double specular_first = 0;
+};
+
+LightPass light_pass(const CommonOptions& o, const Scene& scene, const PatchMesh& mesh, const TwoPassOptions& t) {
     const auto& P = mesh.patches();
     const PatchSceneTracer tracer(scene, mesh);
-
-    // Light pass. Mirrors and glass occlude the radiosity's form factors; photons carry the light
-    // they redirect and hand it to the patches where it lands (rho Phi / A, added to the
-    // patches' emission for the solve, so the solution carries it on). Round 1: photons from
-    // the emitters (L S+ D). Round 2, after a first solve: photons from every patch with its
+    LightPass lp;
+    // Mirrors and glass occlude the radiosity's form factors; photons carry the light they
+    // redirect and hand it to the patches where it lands (rho Phi / A, added to the patches'
+    // emission for the solve, so the solution carries it on). Round 1: photons from the
+    // emitters (L S+ D). Round 2, after a first solve: photons from every patch with its
     // reflected radiosity (L D+ S+ D: a wall seen in the mirror lights the floor), then the
     // solve again with both.
     const bool photons = t.photons > 0 && scene.has_specular();
@@ -59,21 +69,20 @@ int run_two_pass_render(const CommonOptions& o, const Scene& scene, const PatchM
     co.nearest = t.nearest;
     co.seed = t.seed;
     std::vector<CausticPhoton> stored;
-    std::vector<Rgb> caustic_radiosity(P.size());  // rho Phi / A: the light the photons reflect off each patch
-    std::size_t emitted = 0;
-    double specular_first = 0, radius = 0;
+    lp.caustic_radiosity.assign(P.size(), Rgb());
+    double radius = 0;
     auto add_photons = [&](const CausticMap& map) {
         const auto power = map.power_per_patch();
         for (std::size_t p = 0; p < P.size(); ++p)
-            if (P[p].area > 0) caustic_radiosity[p] += P[p].reflectance * power[p] * (1.0 / P[p].area);
+            if (P[p].area > 0) lp.caustic_radiosity[p] += P[p].reflectance * power[p] * (1.0 / P[p].area);
         stored.insert(stored.end(), map.photons().begin(), map.photons().end());
-        emitted += map.emitted();
+        lp.emitted += map.emitted();
         radius = map.radius();
     };
     const auto visibility = make_visibility(o.visibility, P, specular_occluders(scene));
     auto solve = [&] {
         std::vector<Patch> lit = P;
-        for (std::size_t p = 0; p < P.size(); ++p) lit[p].emission += caustic_radiosity[p];
+        for (std::size_t p = 0; p < P.size(); ++p) lit[p].emission += lp.caustic_radiosity[p];
         const auto ff = make_form_factor_estimator("raycast", lit, visibility.get(), {});
         ShootingOptions so;
         so.cancel = &g_interrupted;
@@ -84,67 +93,84 @@ int run_two_pass_render(const CommonOptions& o, const Scene& scene, const PatchM
     if (photons) {
         const CausticMap lamps(mesh, tracer, co, &g_interrupted);
         if (g_interrupted.load()) throw Interrupted("interrupted while tracing caustic photons");
-        specular_first = lamps.specular_first_share();
+        lp.specular_first = lamps.specular_first_share();
         add_photons(lamps);
     }
-    SolveResult res = solve();
+    lp.res = solve();
     if (photons) {
         std::vector<Rgb> reflected(P.size());
         for (std::size_t p = 0; p < P.size(); ++p) {
-            reflected[p] = res.radiosity[p] - P[p].emission;
+            reflected[p] = lp.res.radiosity[p] - P[p].emission;
             for (int c = 0; c < 3; ++c) reflected[p][c] = std::max(0.0, reflected[p][c]);
         }
         co.seed = t.seed + 1;
         const CausticMap surfaces(mesh, tracer, co, &g_interrupted, &reflected);
         if (g_interrupted.load()) throw Interrupted("interrupted while tracing caustic photons");
         add_photons(surfaces);
-        res = solve();
+        lp.res = solve();
+        lp.caustics = std::make_unique<CausticMap>(std::move(stored), radius, P.size(), t.nearest);
     }
-    std::optional<CausticMap> caustics;
-    if (photons) caustics.emplace(std::move(stored), radius, P.size(), t.nearest);
     // The point data, gathered at the vertices from the solved patches: each vertex's own
     // emission is the mesh's (without the caustic term), so the gathered B holds the caustic
     // light only as it arrives from elsewhere; the photon map adds the caustic where it lands.
-    std::vector<Rgb> vertex;
-    if (gather_point_values(mesh, *visibility, res, "vertices", o.quiet)) {
-        vertex = res.point_radiosity;
-    } else {
-        std::vector<Rgb> without(res.radiosity);
-        for (std::size_t p = 0; p < P.size(); ++p) without[p] -= caustic_radiosity[p];
-        vertex = area_weighted_vertex_values(mesh, without);
-    }
-    std::vector<Rgb> patch_values(res.radiosity);
-    for (std::size_t p = 0; p < P.size(); ++p) patch_values[p] -= caustic_radiosity[p];
-    const double light_seconds = seconds();
+    lp.patch_values = lp.res.radiosity;
+    for (std::size_t p = 0; p < P.size(); ++p) lp.patch_values[p] -= lp.caustic_radiosity[p];
+    if (gather_point_values(mesh, *visibility, lp.res, "vertices", o.quiet))
+        lp.vertex = lp.res.point_radiosity;
+    else
+        lp.vertex = area_weighted_vertex_values(mesh, lp.patch_values);
+    return lp;
+}
 
-    // Eye pass.
+}  // namespace
+
+TwoPassPicture render_two_pass(const CommonOptions& o, const Scene& scene, const PatchMesh& mesh,
+                               const RenderOptions& render, const TwoPassOptions& t) {
+    const auto start = std::chrono::steady_clock::now();
+    auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    LightPass lp = light_pass(o, scene, mesh, t);
+    TwoPassPicture out;
+    out.light_seconds = seconds();
+    out.shots = lp.res.steps;
+    out.emitted = lp.emitted;
+    out.specular_first = lp.specular_first;
+    out.stored = lp.caustics ? lp.caustics->photons().size() : 0;
+    // The exposure as render's for the radiosity alone: the mean non-emitting patch at mid grey.
+    out.shown = lp.res;
+    out.shown.radiosity = lp.patch_values;
+
     const ExportInfo info{scene.name, "", false, scene.units};
-    const PinholeCamera camera = eye_camera(mesh, res, info, render);
+    const PinholeCamera camera = eye_camera(mesh, lp.res, info, render);
     EyePassOptions eo;
     eo.width = render.width;
     eo.height = render.height;
     eo.samples_per_pixel = t.samples;
     eo.max_depth = t.max_depth;
     eo.seed = t.seed;
-    const EyePass pass(scene, mesh, std::move(vertex), std::move(patch_values), caustics ? &*caustics : nullptr);
+    const EyePass pass(scene, mesh, std::move(lp.vertex), std::move(lp.patch_values), lp.caustics.get());
     ProgressLine progress(!o.quiet);
-    const EyeImage image = pass.render(
+    out.image = pass.render(
         camera, eo, [&](std::size_t d, std::size_t n) { progress.items("eye rays: rows", d, n); }, &g_interrupted);
     progress.finish();
-    // The exposure as render's for the radiosity alone: the mean non-emitting patch at mid grey.
-    SolveResult shown = res;
-    for (std::size_t p = 0; p < P.size(); ++p) shown.radiosity[p] -= caustic_radiosity[p];
-    write_eye_picture(image, mesh, shown, render.exposure, picture);
+    out.seconds = seconds();
+    return out;
+}
+
+int run_two_pass_render(const CommonOptions& o, const Scene& scene, const PatchMesh& mesh, const std::string& picture,
+                        const RenderOptions& render, const TwoPassOptions& t) {
+    const TwoPassPicture pic = render_two_pass(o, scene, mesh, render, t);
+    write_eye_picture(pic.image, mesh, pic.shown, render.exposure, picture);
     if (!o.quiet) {
-        std::cerr << "two-pass: " << P.size() << " patches, " << res.steps << " shots";
-        if (caustics)
-            std::cerr << ", " << caustics->photons().size() << " caustic photons stored of " << emitted << " emitted ("
-                      << 100.0 * specular_first << "% of the emitters' met a mirror or glass first)";
-        std::cerr << "; light pass " << light_seconds << " s, eye pass " << seconds() - light_seconds << " s\n";
+        std::cerr << "two-pass: " << mesh.size() << " patches, " << pic.shots << " shots";
+        if (pic.emitted > 0)
+            std::cerr << ", " << pic.stored << " caustic photons stored of " << pic.emitted << " emitted ("
+                      << 100.0 * pic.specular_first << "% of the emitters' met a mirror or glass first)";
+        std::cerr << "; light pass " << pic.light_seconds << " s, eye pass " << pic.seconds - pic.light_seconds
+                  << " s\n";
     }
-    if (!image.complete()) {
-        std::cerr << "bounce: interrupted: " << picture << " holds the " << image.rows_done << " of " << image.height
-                  << " rows done (the rest black)\n";
+    if (!pic.image.complete()) {
+        std::cerr << "bounce: interrupted: " << picture << " holds the " << pic.image.rows_done << " of "
+                  << pic.image.height << " rows done (the rest black)\n";
         return interrupted_exit_code() ? interrupted_exit_code() : 130;
     }
     if (!o.quiet) std::cout << "wrote " << picture << "\n";

@@ -10,6 +10,8 @@
 
 #include "app/common_options.h"
 #include "mesh/patch_mesh.h"
+#include "solver/linear/solve_result.h"
+#include "solver/two_pass/eye_pass.h"
 #include "viewer/renderer.h"
 
 namespace bounce::app {
@@ -26,6 +28,24 @@ struct TwoPassOptions {
 
 /// Adds --ray-trace, --samples, --photons, --photon-nearest, --photon-radius, --max-depth and --seed.
 void add_two_pass_options(CLI::App* cmd, TwoPassOptions& t);
+
+/// The two-pass picture in memory, with what it took.
+struct TwoPassPicture {
+    EyeImage image;             // linear radiance; rows not done (Ctrl-C) black
+    SolveResult shown;          // the radiosity without the caustic term: the exposure of write_eye_picture
+    std::size_t shots = 0;      // of the last radiosity solve
+    std::size_t emitted = 0;    // caustic photons emitted, both rounds
+    std::size_t stored = 0;     // caustic photons stored in the map
+    double specular_first = 0;  // share of the emitters' photons that met a mirror or glass first
+    double light_seconds = 0;   // wall time of the light pass (radiosity, photons, gather)
+    double seconds = 0;         // light and eye pass together
+};
+
+/// The light pass and the eye pass of the loaded scene (meshed as `mesh`) through the camera
+/// of `render`: the picture of run_two_pass_render, not written. Progress on a terminal unless
+/// o.quiet; Ctrl-C stops the eye pass with the rows done.
+TwoPassPicture render_two_pass(const CommonOptions& o, const Scene& scene, const PatchMesh& mesh,
+                               const RenderOptions& render, const TwoPassOptions& t);
 
 /// Solves the loaded scene (meshed as `mesh`) and writes the eye-ray picture; returns the exit code (130 when Ctrl-C
 /// stopped the eye pass: the rows done are written, the rest black).

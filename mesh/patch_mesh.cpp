@@ -412,6 +412,7 @@ PatchMesh::PatchMesh(const Scene& scene, const MeshingOptions& options) {
         builder.triangulate_discontinuities(plan.max_area, m_warnings);
     builder.emit_pieces(plan.pieces);
     builder.finish(m_warnings);
+    m_specular = bounce::specular_faces(scene);
 }
 PatchMesh::PatchMesh(std::vector<Patch> patches, const std::vector<glm::dvec3>& points,
                      const std::vector<std::vector<std::uint32_t>>& faces)

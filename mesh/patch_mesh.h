@@ -10,6 +10,7 @@
 
 #include "mesh/patch.h"
 #include "mesh/scene.h"
+#include "mesh/specular_faces.h"
 
 namespace bounce {
 
@@ -94,6 +95,11 @@ public:
     static constexpr double kGapBand = 8.0;
     /// Problems met while meshing, one line each, to show the user (the discontinuity cap).
     const std::vector<std::string>& warnings() const { return m_warnings; }
+    /// The scene's mirrors and glass, not meshed into patches but kept for display (the .vtu's
+    /// specular cells, `bounce view`): specular_faces(scene) for a mesh made from a scene, empty
+    /// for one made from given faces unless set_specular_faces gives them.
+    const std::vector<SpecularFace>& specular_faces() const { return m_specular; }
+    void set_specular_faces(std::vector<SpecularFace> faces) { m_specular = std::move(faces); }
 
 private:
     OpenPatchMesh m_mesh;
@@ -101,6 +107,7 @@ private:
     std::vector<std::uint32_t> m_parent;
     std::vector<std::string> m_warnings;
     std::vector<double> m_clearance;  // per vertex; empty when no vertex needs one
+    std::vector<SpecularFace> m_specular;
     double m_edge = 0.0;
 };
 

@@ -3,7 +3,7 @@
 set -euo pipefail
 PKGS=(build-essential cmake pkg-config
       libcgal-dev libopenmesh-dev libglm-dev libvtk9-dev
-      libtbb-dev libembree-dev nlohmann-json3-dev libcli11-dev libnanoflann-dev
+      libtbb-dev libembree-dev nlohmann-json3-dev libcli11-dev libnanoflann-dev libopenexr-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       python3-vtk9 python3-meshio python3-matplotlib xvfb xauth
       pybind11-dev python3-dev python3-numpy python3-pytest

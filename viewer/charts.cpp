@@ -21,4 +21,10 @@ void write_mesh_charts(const std::filesystem::path& folder) {
     }
 }
 
+void write_picture_chart(const std::filesystem::path& folder) {
+    const std::filesystem::path script = std::filesystem::path(BOUNCE_CHARTS_DIR) / "plot_picture.py";
+    const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + folder.string() + "'";
+    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("drawing the chart failed: " + cmd);
+}
+
 }  // namespace bounce

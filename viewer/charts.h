@@ -15,4 +15,8 @@ void write_comparison_charts(const std::filesystem::path& folder);
 /// every probe coloured by its signed error (from probe_errors.csv and outline.csv, when there).
 void write_mesh_charts(const std::filesystem::path& folder);
 
+/// Draws picture_error.png in `folder` from its picture.csv (bounce compare --picture): each
+/// picture's error against the long path-traced image, against seconds, for both methods.
+void write_picture_chart(const std::filesystem::path& folder);
+
 }  // namespace bounce

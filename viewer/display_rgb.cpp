@@ -5,11 +5,14 @@
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 
+#include "viewer/specular_cells.h"
 #include "viewer/tone_map.h"
 
 namespace bounce {
@@ -40,6 +43,21 @@ vtkSmartPointer<vtkUnsignedCharArray> colours(const ToneMap& tm, const std::vect
     return c;
 }
 
+/// The specular cells, and their corners, in their tint (specular_tint).
+void paint_specular(vtkUnstructuredGrid* g, vtkDataArray* kind, vtkUnsignedCharArray* cells,
+                    vtkUnsignedCharArray* points) {
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < kind->GetNumberOfTuples(); ++c) {
+        const int k = int(kind->GetTuple1(c));
+        if (k == 0) continue;
+        const auto tint = specular_tint(k);
+        cells->SetTypedTuple(c, tint.data());
+        if (!points) continue;
+        g->GetCellPoints(c, ids);
+        for (vtkIdType j = 0; j < ids->GetNumberOfIds(); ++j) points->SetTypedTuple(ids->GetId(j), tint.data());
+    }
+}
+
 }  // namespace
 
 void add_display_rgb(vtkUnstructuredGrid* g, double ev) {
@@ -50,10 +68,19 @@ void add_display_rgb(vtkUnstructuredGrid* g, double ev) {
     std::vector<double> A(B.size(), 1.0);
     if (auto* a = cd->GetArray("area"))
         for (std::size_t i = 0; i < A.size(); ++i) A[i] = a->GetTuple1(vtkIdType(i));
+    // Mirrors and glass hold no radiosity: they stay out of the exposure (weight 0).
+    vtkDataArray* kind = cd->GetArray(kMaterialKindArray);
+    if (kind)
+        for (std::size_t i = 0; i < A.size(); ++i)
+            if (kind->GetTuple1(vtkIdType(i)) != 0) A[i] = 0.0;
     const ToneMap tm = ToneMap::automatic(B, E, A, ev);
-    cd->AddArray(colours(tm, B));  // replaces an array of the same name
+    auto cell_rgb = colours(tm, B);
+    vtkSmartPointer<vtkUnsignedCharArray> point_rgb;
     if (auto* pb = g->GetPointData()->GetArray("radiosity"); pb && pb->GetNumberOfComponents() == 3)
-        g->GetPointData()->AddArray(colours(tm, rgb_values(pb)));
+        point_rgb = colours(tm, rgb_values(pb));
+    if (kind) paint_specular(g, kind, cell_rgb, point_rgb);
+    cd->AddArray(cell_rgb);  // replaces an array of the same name
+    if (point_rgb) g->GetPointData()->AddArray(point_rgb);
 }
 
 }  // namespace bounce

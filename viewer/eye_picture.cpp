@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 #include <numbers>
 
@@ -11,7 +12,9 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 
+#include "mesh/input_error.h"
 #include "viewer/camera.h"
+#include "viewer/exr_writer.h"
 #include "viewer/pending_output.h"
 #include "viewer/picture_writer.h"
 #include "viewer/solution_grid.h"
@@ -56,9 +59,29 @@ void write_pfm(const std::filesystem::path& path, int width, int height, const s
     commit_output(tmp, path, ok, "PFM picture");
 }
 
-void write_eye_picture(const EyeImage& image, const PatchMesh& mesh, const SolveResult& result, double exposure,
-                       const std::filesystem::path& picture) {
-    if (picture.extension() == ".pfm") return write_pfm(picture, image.width, image.height, image.pixels);
+std::vector<Rgb> read_pfm(const std::filesystem::path& path, int& width, int& height) {
+    std::ifstream in(path, std::ios::binary);
+    std::string magic;
+    double scale = 0;
+    if (!(in >> magic >> width >> height >> scale) || magic != "PF" || width <= 0 || height <= 0 || scale >= 0 ||
+        width > 65536 || height > 65536)
+        throw InputError(path.string() + ": not a little-endian RGB .pfm");
+    in.get();  // the single whitespace before the data
+    std::vector<Rgb> pixels(std::size_t(width) * std::size_t(height));
+    std::vector<float> row(3 * std::size_t(width));
+    for (int r = height - 1; r >= 0; --r) {
+        if (!in.read(reinterpret_cast<char*>(row.data()), std::streamsize(row.size() * sizeof(float))))
+            throw InputError(path.string() + ": .pfm shorter than its " + std::to_string(width) + " x " +
+                             std::to_string(height) + " pixels");
+        for (int c = 0; c < width; ++c)
+            pixels[std::size_t(r) * std::size_t(width) + std::size_t(c)] = {
+                row[3 * std::size_t(c)], row[3 * std::size_t(c) + 1], row[3 * std::size_t(c) + 2]};
+    }
+    return pixels;
+}
+
+void write_eye_pictures(const std::vector<const EyeImage*>& images, const PatchMesh& mesh, const SolveResult& result,
+                        double exposure, const std::filesystem::path& picture) {
     check_picture_path(picture);
     std::vector<Rgb> emission;
     std::vector<double> area;
@@ -67,22 +90,39 @@ void write_eye_picture(const EyeImage& image, const PatchMesh& mesh, const Solve
         area.push_back(p.area);
     }
     const ToneMap tone = ToneMap::automatic(result.radiosity, emission, area, exposure);
+    constexpr int kGap = 4;  // black pixels between pictures
+    int width = 0, height = 0;
+    for (const EyeImage* im : images) {
+        width += im->width + (width > 0 ? kGap : 0);
+        height = std::max(height, im->height);
+    }
     auto data = vtkSmartPointer<vtkImageData>::New();
-    data->SetDimensions(image.width, image.height, 1);
+    data->SetDimensions(width, height, 1);
     data->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
     auto* out = static_cast<unsigned char*>(data->GetScalarPointer());
-    for (int row = 0; row < image.height; ++row)
-        for (int col = 0; col < image.width; ++col) {
-            // VTK's images run bottom to top.
-            const Rgb& L = image.pixels[std::size_t(row) * std::size_t(image.width) + std::size_t(col)];
-            const auto c = tone(L * std::numbers::pi);
-            unsigned char* px =
-                out + 3 * (std::size_t(image.height - 1 - row) * std::size_t(image.width) + std::size_t(col));
-            px[0] = c[0];
-            px[1] = c[1];
-            px[2] = c[2];
-        }
+    std::fill(out, out + 3 * std::size_t(width) * std::size_t(height), 0);
+    int left = 0;
+    for (const EyeImage* im : images) {
+        for (int row = 0; row < im->height; ++row)
+            for (int col = 0; col < im->width; ++col) {
+                // VTK's images run bottom to top.
+                const Rgb& L = im->pixels[std::size_t(row) * std::size_t(im->width) + std::size_t(col)];
+                const auto c = tone(L * std::numbers::pi);
+                unsigned char* px =
+                    out + 3 * (std::size_t(height - 1 - row) * std::size_t(width) + std::size_t(left + col));
+                px[0] = c[0];
+                px[1] = c[1];
+                px[2] = c[2];
+            }
+        left += im->width + kGap;
+    }
     write_picture(data, picture);
+}
+
+void write_eye_picture(const EyeImage& image, const PatchMesh& mesh, const SolveResult& result, double exposure,
+                       const std::filesystem::path& picture) {
+    if (is_linear_picture(picture)) return write_linear_picture(picture, image.width, image.height, image.pixels);
+    write_eye_pictures({&image}, mesh, result, exposure, picture);
 }
 
 }  // namespace bounce

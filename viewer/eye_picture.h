@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "mesh/patch_mesh.h"
 #include "solver/linear/solve_result.h"
@@ -25,11 +26,21 @@ PinholeCamera eye_camera(const PatchMesh& mesh, const SolveResult& result, const
 /// `pixels` are rows top to bottom, width * height of them.
 void write_pfm(const std::filesystem::path& path, int width, int height, const std::vector<Rgb>& pixels);
 
-/// Writes the picture (a .pfm: the linear radiance as it is, see write_pfm): radiance L times pi (the radiosity a
-/// diffuse surface of that radiance has) through the tone map `render` uses (exposure from the solution's patches:
-/// their mean non-emitting luminance at mid grey, times 2^exposure; 1 - exp(-x); sRGB), as 8-bit PNG or JPEG by the
-/// name's extension, through a temporary file renamed at the end.
+/// Reads a .pfm as write_pfm writes it (3 channels, little-endian), rows top to bottom; sets
+/// width and height. Throws InputError naming the file when it is missing or not such a file.
+std::vector<Rgb> read_pfm(const std::filesystem::path& path, int& width, int& height);
+
+/// Writes the picture (a .pfm or .exr: the linear radiance as it is, see write_linear_picture): radiance L times pi
+/// (the radiosity a diffuse surface of that radiance has) through the tone map `render` uses (exposure from the
+/// solution's patches: their mean non-emitting luminance at mid grey, times 2^exposure; 1 - exp(-x); sRGB), as 8-bit
+/// PNG or JPEG by the name's extension, through a temporary file renamed at the end.
 void write_eye_picture(const EyeImage& image, const PatchMesh& mesh, const SolveResult& result, double exposure,
                        const std::filesystem::path& picture);
+
+/// Writes several pictures side by side, left to right with a 4-pixel black gap, through the
+/// tone map write_eye_picture uses (one exposure for all: the same radiance, the same colour),
+/// as 8-bit PNG or JPEG.
+void write_eye_pictures(const std::vector<const EyeImage*>& images, const PatchMesh& mesh, const SolveResult& result,
+                        double exposure, const std::filesystem::path& picture);
 
 }  // namespace bounce

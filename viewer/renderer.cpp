@@ -36,6 +36,7 @@
 #include "viewer/pending_output.h"
 #include "viewer/picture_writer.h"
 #include "viewer/solution_grid.h"
+#include "viewer/specular_actors.h"
 #include "viewer/tone_map.h"
 #include "viewer/virtual_display.h"
 
@@ -76,6 +77,7 @@ std::string unfinished_caption(vtkUnstructuredGrid* g) {
 }
 
 struct Scene3d {
+    SpecularSplit split;  // the patches, drawn by their radiosity; the mirrors and glass apart
     vtkNew<vtkRenderer> renderer;
     vtkNew<vtkRenderWindow> window;
     vtkNew<vtkDataSetMapper> mapper;
@@ -89,7 +91,8 @@ struct Scene3d {
     bool point_luminance = false;  // the point array `luminance` added: smooth luminance colours
     std::string bar_title;
 
-    Scene3d(vtkUnstructuredGrid* g, const RenderOptions& o) : smooth(o.smooth) {
+    Scene3d(vtkUnstructuredGrid* whole, const RenderOptions& o) : split(split_specular(whole)), smooth(o.smooth) {
+        vtkUnstructuredGrid* g = split.diffuse;
         if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
             throw InputError(o.size_name + ": out of range, got " + std::to_string(o.width) + "x" +
                              std::to_string(o.height) + " (expected 16x16 to 8192x8192)");
@@ -141,6 +144,7 @@ struct Scene3d {
         bar->SetWidth(0.8);
         bar->SetHeight(0.84);
         renderer->AddActor(actor);
+        for (const auto& a : split.specular) renderer->AddActor(a);
         if (const std::string text = unfinished_caption(g); !text.empty()) {
             caption->SetInput(text.c_str());
             caption->GetTextProperty()->SetFontSize(std::max(12, o.height / 40));

@@ -23,6 +23,7 @@
 #include "viewer/display_rgb.h"
 #include "viewer/pending_output.h"
 #include "viewer/solution_grid.h"
+#include "viewer/specular_cells.h"
 #include "viewer/version.h"
 
 namespace bounce {
@@ -155,6 +156,7 @@ vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, c
     auto point_radiosity = rgb_array("radiosity", om.n_vertices());
     for (std::size_t v = 0; v < om.n_vertices(); ++v) set_rgb(point_radiosity, v, at_vertex[v]);
     grid->GetPointData()->AddArray(point_radiosity);
+    add_specular_cells(grid, mesh.specular_faces());
     add_display_rgb(grid, 0.0);
 
     auto fd = grid->GetFieldData();

@@ -26,6 +26,11 @@ struct ExportInfo {
 /// result holds it (result.point_radiosity), else averaged over the patches around each vertex,
 /// weighted by area, and its display_rgb (the default picture of `bounce render` and of the
 /// `--paraview` script).
+/// When the mesh carries mirrors or glass (PatchMesh::specular_faces), they follow the patches
+/// as cells of their own, flagged by the int cell array material_kind (0 diffuse patch, 1
+/// mirror, 2 glass), with zero radiosity, emission, reflectance and irradiance, surface -1 and
+/// display_rgb a fixed tint; without them there is no material_kind array and the file is what
+/// it was before specular objects existed.
 /// Field data: the text fields scene, solver, form_factors, settings, version, status (VTK
 /// string arrays, which ParaView shows as text; Int8 char arrays with info.text_as_chars, since
 /// meshio rejects the String type), steps, unshot_fraction, converged, residual, seconds, and the

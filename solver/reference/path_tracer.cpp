@@ -659,6 +659,23 @@ RadianceEstimate PathTracer::pixel_radiance(const glm::dvec3& origin, const glm:
             Rgb(stats.standard_error(0), stats.standard_error(1), stats.standard_error(2)), batches * kBatch};
 }
 
+PixelSample PathTracer::pixel_sample(const glm::dvec3& origin, const glm::dvec3& corner, const glm::dvec3& du,
+                                     const glm::dvec3& dv, std::uint64_t seed, std::uint64_t index) const {
+    const Impl& im = *m_impl;
+    Random rng(seed, index);
+    auto random_pair = [&](std::size_t) { return std::pair{rng.uniform(), rng.uniform()}; };
+    const double u = rng.uniform(), v = rng.uniform();
+    Rgb throughput = Rgb::gray(1.0);
+    const auto a =
+        im.follow(m_scene, origin, glm::normalize(corner + u * du + v * dv), throughput, [&] { return rng.uniform(); });
+    m_paths.fetch_add(1, std::memory_order_relaxed);
+    if (a.surface < 0) return {};
+    const auto& sh = im.surfaces[std::size_t(a.surface)];
+    const Rgb b = sh.emission + im.reflected(m_scene, a.position, sh.normal, a.surface, sh.reflectance, rng,
+                                             random_pair, [&] { return random_pair(0); });
+    return {throughput * b * (1.0 / kPi), a.surface};
+}
+
 std::vector<RadiosityEstimate> PathTracer::estimate_all(std::span<const SurfacePoint> points,
                                                         const ReferenceOptions& options,
                                                         const std::function<void(std::size_t, std::size_t)>& progress,

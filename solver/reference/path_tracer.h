@@ -62,6 +62,12 @@ struct RadianceEstimate {
     std::uint64_t paths = 0;
 };
 
+/// One path's radiance along an eye ray, and the diffuse surface it ended its specular chain on.
+struct PixelSample {
+    Rgb radiance;      // W/(m^2 sr) per channel (scene units), as RadianceEstimate::radiance
+    int surface = -1;  // index into Scene::surfaces of the diffuse surface reached; -1: none (escaped, absorbed)
+};
+
 /// Path tracing with next-event estimation (Kajiya 1986; Veach 1997 ch. 9-10 for the
 /// estimators): at every path vertex each emitter is sampled by area, indirect light is
 /// gathered along a cosine-weighted direction, and paths end by Russian roulette on the
@@ -116,6 +122,12 @@ public:
     RadianceEstimate pixel_radiance(const glm::dvec3& origin, const glm::dvec3& corner, const glm::dvec3& du,
                                     const glm::dvec3& dv, std::uint64_t paths, std::uint64_t seed,
                                     std::uint64_t index) const;
+
+    /// One path through a uniformly random point of the pixel (corner + u du + v dv), without
+    /// batches or strata: the unit of a progressive picture that stops when its time is up.
+    /// Stream `index` of `seed`; the mean of many is an unbiased pixel_radiance.
+    PixelSample pixel_sample(const glm::dvec3& origin, const glm::dvec3& corner, const glm::dvec3& du,
+                             const glm::dvec3& dv, std::uint64_t seed, std::uint64_t index) const;
 
     /// Estimates every point in parallel (TBB). `progress(done, total)` is called from worker
     /// threads after each point. Points not started when `stop` is raised come back with

@@ -262,3 +262,17 @@ TEST(CliReference, InfoReportsTheAreaLeftOutByContactCuts) {
     ASSERT_EQ(whole.exit_code, 0) << whole.err;
     EXPECT_EQ(removed(whole.out, "cornell box: floor"), 0.0);
 }
+
+TEST(CliReference, ImageWritesOpenExr) {
+    bounce::test::TempDir dir;
+    const auto r = bounce_run("reference cornell-spheres --image " + (dir / "ref.exr").string() +
+                              " --size 16x16 --paths 64 --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const char* f : {"ref.exr", "ref_se.exr"}) {
+        std::ifstream in(dir / f, std::ios::binary);
+        char magic[4] = {};
+        in.read(magic, 4);
+        // OpenEXR's magic number 20000630, little-endian.
+        EXPECT_EQ(std::string(magic, 4), std::string("\x76\x2f\x31\x01", 4)) << f;
+    }
+}
