@@ -274,6 +274,7 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     for (std::vector<Rgb>* per_patch : {&res.radiosity, &res.irradiance, &res.unshot, &res.display})
         spread_to_cells(*per_patch, n, tree, cells);
     res.point_radiosity = std::move(values);
+    refined.set_specular_faces(mesh.specular_faces());  // mirrors and glass stay in the export
     mesh = std::move(refined);
     return cells.size() - n;
 }
