@@ -9,12 +9,16 @@
 
 #include <filesystem>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "mesh/patch_mesh.h"
 #include "mesh/scene_loader.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/gather/point_values.h"
 #include "solver/linear/shooting_solver.h"
+#include "solver/reference/path_tracer.h"
+#include "solver/reference/probe_classes.h"
 #include "solver/reference/probe_score.h"
 #include "solver/reference/reference_csv.h"
 #include "solver/visibility/visibility.h"
@@ -43,4 +47,73 @@ TEST(DefaultCornell, MeetsTheGoalAgainstThePathTracedReference) {
     EXPECT_LE(s.rms_smooth, 0.02);
     EXPECT_LE(s.max_smooth, 0.10);
     EXPECT_LE(s.rms_patch, 0.05);
+}
+
+namespace {
+
+/// The default run with its display cells, scored at a shipped class-balanced reference (192
+/// probes path-traced to 0.5%, a quarter each lit, penumbra, unlit, contact), per class as
+/// `bounce compare` scores it.
+std::array<ClassScore, 4> default_run_by_class(const std::string& scene_name, const std::string& reference_csv,
+                                               ProbeScore& all) {
+    const auto reference = read_reference(std::filesystem::path(BOUNCE_SOURCE_DIR) / reference_csv);
+    const Scene scene = load_scene(scene_name);
+    PatchMesh mesh(scene, MeshingOptions{});
+    const auto visibility = make_visibility("embree", mesh.patches());
+    const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
+    SolveResult res = ShootingSolver(mesh.patches(), *ff, SolverOptions{}).solve();
+    EXPECT_TRUE(res.converged);
+    const std::size_t patches = mesh.size();
+    EXPECT_EQ(gather_point_values(mesh, *visibility, res, "vertices", PatchDisplayRefinement{kPatchDisplayTolerance}),
+              GatherOutcome::gathered);
+    EXPECT_GT(mesh.size(), patches) << "no display cells";
+    all = score_at_probes(mesh, res.radiosity, reference, res.point_radiosity);
+    const PathTracer tracer(scene);
+    std::vector<ProbeClass> classes(reference.size(), ProbeClass::lit);
+    for (std::size_t k = 0; k < reference.size(); ++k)
+        if (const auto x = tracer.locate(reference[k].position, reference[k].normal))
+            classes[k] = classify_probe(tracer, *x, k);
+    const auto by_class = score_by_class(all, classes);
+    std::cout << scene_name << ": " << patches << " patches, " << mesh.size() << " cells; point data " << all.rms_smooth
+              << " RMS, " << all.max_smooth << " worst";
+    for (std::size_t c = 0; c < 4; ++c)
+        std::cout << "; " << to_string(kProbeClasses[c]) << " " << by_class[c].rms_smooth << " / "
+                  << by_class[c].max_smooth << " (" << by_class[c].scored << ")";
+    std::cout << "\n";
+    return by_class;
+}
+
+}  // namespace
+
+// Issue 34's goals where it is hard: point data within 1.5% RMS, penumbra probes within 3% RMS.
+// (Its 5% at the worst probe is not met yet: a floor point 5 mm from the tall block's corner,
+// 2 mm beside the sharp shadow line that starts there, is about 14% off.)
+TEST(DefaultCornell, DisplayCellsMeetThePointDataGoalsWhereItIsHard) {
+    ProbeScore all;
+    const auto by_class = default_run_by_class("cornell", "examples/reference/cornell_classes_192.csv", all);
+    EXPECT_GE(all.scored, 180u);
+    EXPECT_LE(all.rms_smooth, 0.015);
+    EXPECT_LE(by_class[1].rms_smooth, 0.03);  // penumbra
+    EXPECT_GE(by_class[1].scored, 40u);
+}
+
+TEST(DefaultStudy, DisplayCellsMeetThePointDataGoalsWhereItIsHard) {
+    ProbeScore all;
+    const auto by_class = default_run_by_class(std::string(BOUNCE_SOURCE_DIR) + "/examples/scenes/study.json",
+                                               "examples/reference/study_classes_192.csv", all);
+    EXPECT_GE(all.scored, 180u);
+    EXPECT_LE(all.rms_smooth, 0.015);
+    EXPECT_LE(by_class[1].rms_smooth, 0.03);
+    EXPECT_GE(by_class[1].scored, 40u);
+}
+
+// The corridor's far leg, lit only from the walls, keeps its point data at about 1.9% RMS (the
+// goal's 1.5% is not met there yet); its penumbrae meet theirs.
+TEST(DefaultCorridor, DisplayCellsMeetThePenumbraGoal) {
+    ProbeScore all;
+    const auto by_class = default_run_by_class(std::string(BOUNCE_SOURCE_DIR) + "/examples/scenes/corridor.obj",
+                                               "examples/reference/corridor_classes_192.csv", all);
+    EXPECT_GE(all.scored, 180u);
+    EXPECT_LE(by_class[1].rms_smooth, 0.03);
+    EXPECT_GE(by_class[1].scored, 10u);  // its penumbrae are thin: 12 of its probes
 }
