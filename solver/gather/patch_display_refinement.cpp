@@ -160,6 +160,51 @@ void spread_to_cells(std::vector<Rgb>& values, std::size_t patches, const Elemen
     values = std::move(out);
 }
 
+/// A split patch's reflected radiosity B - E shared among its cells in proportion to the
+/// point data over each (the mean of its corners' values less E), the patch's power kept:
+/// sum_k A_k (B_k - E) = A (B - E), so the cells' own values follow a shadow line through the
+/// patch. H (= (B - E) / rho) and the display value follow the same shares; a channel whose
+/// point data is dark over the whole patch keeps the patch's value in every cell.
+void share_by_point_data(SolveResult& res, const std::vector<Patch>& patches, const ElementTree& tree,
+                         const std::vector<std::uint32_t>& cells, const PointValues& known) {
+    std::vector<std::vector<std::size_t>> of_patch(patches.size());
+    for (std::size_t k = 0; k < cells.size(); ++k) of_patch[tree.node(cells[k]).root].push_back(k);
+    for (std::size_t p = 0; p < patches.size(); ++p) {
+        const std::vector<std::size_t>& ks = of_patch[p];
+        if (ks.size() < 2) continue;
+        const Rgb e = patches[p].emission;
+        std::vector<Rgb> reflected(ks.size());
+        Rgb mean;
+        double area = 0.0;
+        for (std::size_t i = 0; i < ks.size(); ++i) {
+            const ElementTree::Node& n = tree.node(cells[ks[i]]);
+            Rgb sum;
+            int count = 0;
+            for (int c = 0; c < n.corner_count; ++c)
+                if (const Rgb* v = known.find(patches[p].surface, tree.point(n.root, n.corners[std::size_t(c)]))) {
+                    sum += *v;
+                    ++count;
+                }
+            for (int c = 0; c < 3 && count > 0; ++c) reflected[i][c] = std::max(0.0, sum[c] / count - e[c]);
+            const double a = tree.geometry()[cells[ks[i]]].area;
+            mean += reflected[i] * a;
+            area += a;
+        }
+        mean *= 1.0 / area;
+        for (std::size_t i = 0; i < ks.size(); ++i) {
+            const std::size_t k = ks[i];
+            for (int c = 0; c < 3; ++c) {
+                if (!(mean[c] > 0)) continue;
+                const double share = reflected[i][c] / mean[c];
+                const double b = res.radiosity[k][c];
+                res.radiosity[k][c] = e[c] + (b - e[c]) * share;
+                if (k < res.irradiance.size()) res.irradiance[k][c] *= share;
+                if (k < res.display.size() && b > 0) res.display[k][c] *= res.radiosity[k][c] / b;
+            }
+        }
+    }
+}
+
 }  // namespace
 
 std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibility& visibility,
@@ -273,6 +318,7 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
             values[v] = *known_value;
     for (std::vector<Rgb>* per_patch : {&res.radiosity, &res.irradiance, &res.unshot, &res.display})
         spread_to_cells(*per_patch, n, tree, cells);
+    share_by_point_data(res, sources, tree, cells, known);
     res.point_radiosity = std::move(values);
     refined.set_specular_faces(mesh.specular_faces());  // mirrors and glass stay in the export
     mesh = std::move(refined);

@@ -36,10 +36,15 @@ inline constexpr double kPatchDisplayTolerance = 0.02;
 /// misses the interpolation by more than the tolerance and tries the kept cells again, down to
 /// max_depth. Then replaces `mesh` by the cells' conforming mesh (ElementTree::conforming_mesh)
 /// and spreads the per-patch arrays of `res` (radiosity, irradiance, unshot, display) to the
-/// cells, which carry their patch's values: the energy account and the patch values are the
-/// solve's; only the point data gains. Returns the cells added; 0, leaving both unchanged,
-/// when the tolerance is 0, nothing misses, `cancel` was set, or the new vertices would take
-/// more than kMaxGatherPairs vertex-patch pairs. `progress` receives each depth's gather.
+/// cells: a split patch's reflected radiosity B - E (and H, and the display value) is shared
+/// among its cells in proportion to the point data over each, so each patch keeps its power
+/// (sum_k A_k B_k = A B) and the energy account is the solve's, while the cells' values follow
+/// a shadow line through the patch. Vertices beside near sources with a shape
+/// (GatherOptions::source_corners) are gathered again first, also when nothing is split.
+/// Returns the cells added; 0, with `mesh` unchanged, when the tolerance is 0, nothing
+/// misses, `cancel` was set (the point data then as it was or partly gathered again), or the
+/// new vertices would take more than kMaxGatherPairs vertex-patch pairs. `progress` receives
+/// each gather.
 std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibility& visibility,
                                  const PatchDisplayRefinement& options, const std::atomic<bool>* cancel = nullptr,
                                  const std::function<void(std::size_t, std::size_t)>& progress = {});

@@ -100,8 +100,9 @@ TEST(Penumbra, AdaptivePointDataFollowsABlockersPenumbra) {
 TEST(Penumbra, DisplayRefinementFollowsThePenumbraOnCoarsePatches) {
     // About 300 patches: the penumbra (1 wide) spans three or four of them, and linear
     // interpolation between their vertices misses its curve; display cells gathered at their
-    // own vertices follow it, while the patch values and the energy stay the solve's. (What
-    // is left is the gather's: 16 rays to each of the lamp's dozen patches.)
+    // own vertices follow it, and so do the cells' values, which share their patch's light
+    // (each patch's power stays the solve's). (What is left is the gather's: 16 rays to each
+    // of the lamp's dozen patches.)
     const Scene scene = blocked_lamp();
     MeshingOptions coarse;
     coarse.target_patches = 300;
@@ -120,11 +121,13 @@ TEST(Penumbra, DisplayRefinementFollowsThePenumbraOnCoarsePatches) {
     const ProbeScore after = score_at_probes(cells, refined.radiosity, reference, refined.point_radiosity);
     std::cout << mesh.size() << " patches: point data " << before.rms_smooth << " RMS, " << before.max_smooth
               << " worst; " << cells.size() << " display cells: " << after.rms_smooth << " RMS, " << after.max_smooth
-              << " worst\n";
+              << " worst; cell values " << before.rms_patch << " -> " << after.rms_patch << " RMS\n";
     ASSERT_EQ(after.scored, reference.size());
     EXPECT_GT(before.max_smooth, 0.2);
     EXPECT_LE(after.max_smooth, 0.05);
     EXPECT_LE(after.rms_smooth, 0.02);
+    // The cells share their patch's light by the point data: their own values follow it too.
+    EXPECT_LT(after.rms_patch, 0.7 * before.rms_patch);
     EXPECT_GT(cells.size(), mesh.size());
     ASSERT_EQ(refined.radiosity.size(), cells.size());
     ASSERT_EQ(refined.point_radiosity.size(), cells.mesh().n_vertices());
