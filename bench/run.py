@@ -63,7 +63,8 @@ def solve(bounce, series, solver, method, extra, patches, tmp):
     if p.returncode != 0:
         raise SystemExit(f"bench: {' '.join(cmd[3:])} failed ({p.returncode}):\n{p.stderr}")
     wall, peak_kb = re.search(r"TIME ([0-9.]+) ([0-9]+)", p.stderr).groups()
-    m = re.search(r"patches (\d+)(?:, elements (\d+))?, \S+ (\d+) (shots|sweeps).*?([0-9.e+-]+) s[ \n]", p.stdout)
+    m = re.search(r"patches (\d+)(?:, elements (\d+))?(?: \(\d+ display cells\))?, \S+ (\d+) (shots|sweeps).*?([0-9.e+-]+) s[ \n]",
+                  p.stdout)
     if not m:
         raise SystemExit(f"bench: cannot read the summary of {' '.join(cmd[3:])}:\n{p.stdout}")
     n_patches, n_elements, steps, _, solve_s = m.groups()
