@@ -29,11 +29,11 @@ from ._bounce import (  # noqa: F401
     form_factors,
     gather_modes,
     reference,
-    solve,
     solver_names,
     visibility_backends,
 )
 from ._bounce import load as _load
+from ._bounce import solve as _solve
 
 __all__ = [
     "Patches", "Progress", "Scene", "Solution", "check_form_factors", "form_factor_methods",
@@ -58,6 +58,23 @@ def load(scene="cornell", *, patches=2000, max_area=0.0, max_edge=0.0, subdivide
         for w in s.warnings:
             _warnings.warn(w, stacklevel=2)
     return s
+
+
+def solve(scene, *, quiet=False, **options):
+    """Radiosity of a loaded scene, as ``bounce solve`` computes it (one pipeline for both).
+
+    The keywords are the command line's flags; see ``help(bounce._bounce.solve)``. The
+    solution's warnings (``sol.warnings``: rows of form factors above 1, faces wound the wrong
+    way round) are issued as Python warnings unless quiet.
+    """
+    sol = _solve(scene, **options)
+    if not quiet:
+        for w in sol.warnings:
+            _warnings.warn(w, stacklevel=2)
+    return sol
+
+
+solve.__doc__ += "\n" + (_solve.__doc__ or "")
 
 
 def _to_meshio(self):
