@@ -60,6 +60,22 @@ def test_same_request_same_bits(tmp_path, run_cli, load_options, py_options, cli
     assert int(np.asarray(cli.field_data["steps"]).ravel()[0]) == sol.steps
 
 
+def test_a_request_object_is_its_keywords():
+    scene = bounce.load("cornell", patches=100)
+    request = bounce.SolveRequest(solver="gauss-seidel", gather="none")
+    by_keywords = bounce.solve(scene, solver="gauss-seidel", gather="none", quiet=True)
+    by_request = bounce.solve(scene, request, quiet=True)
+    assert np.array_equal(by_request.radiosity, by_keywords.radiosity)
+    # Keywords beside the request win; replace() makes a changed copy.
+    shooting = bounce.solve(scene, request, solver="shooting")
+    assert shooting.solver == "shooting" and request.options["solver"] == "gauss-seidel"
+    assert request.replace(solver="shooting") == bounce.SolveRequest(solver="shooting", gather="none")
+    with pytest.raises(ValueError, match=r"solver: unknown, got 'newton'"):
+        bounce.solve(scene, request.replace(solver="newton"))
+    with pytest.raises(TypeError, match="must be a bounce.SolveRequest"):
+        bounce.solve(scene, {"solver": "jacobi"})
+
+
 def test_hierarchical_roots_are_the_command_lines_coarse_patches():
     # load()'s default 2000 patches would be 2000 quadtree roots; like the command line, the
     # hierarchical solver cuts about 30 instead (90 on the box: contact cuts split faces).
