@@ -31,13 +31,12 @@ FURNACE = ('{"name": "furnace", "materials": {"glow": {"reflectance": 0.9, "emis
         ({"patches": 300}, {}, ["--patches", 300]),
         ({"patches": 300}, {"solver": "gauss-seidel", "gather": "centres"},
          ["--patches", 300, "--solver", "gauss-seidel", "--gather", "centres"]),
-        ({"patches": 300}, {"solver": "direct", "form_factors": "exact"},
-         ["--patches", 300, "--solver", "direct", "--form-factors", "exact"]),
+        ({"patches": 300}, {"solver": "direct"}, ["--patches", 300, "--solver", "direct"]),
         # The default meshing: both start the hierarchy from the same coarse roots.
         ({}, {"solver": "hierarchical", "max_level": 2}, ["--solver", "hierarchical", "--max-level", 2]),
         ({}, {"adaptive": True, "max_level": 2}, ["--adaptive", "--max-level", 2]),
     ],
-    ids=["shooting", "gauss-seidel-centres", "direct-exact", "hierarchical-default-meshing",
+    ids=["shooting", "gauss-seidel-centres", "direct", "hierarchical-default-meshing",
          "adaptive-default-meshing"],
 )
 def test_same_request_same_bits(tmp_path, run_cli, load_options, py_options, cli_options):
