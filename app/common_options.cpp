@@ -12,7 +12,6 @@
 #include "mesh/input_error.h"
 #include "mesh/scene_loader.h"
 #include "solver/form_factors/form_factor_matrix.h"
-#include "solver/linear/winding_check.h"
 
 namespace bounce::app {
 
@@ -85,10 +84,19 @@ double estimated_shooting_seconds(double patches) {
 
 }  // namespace
 
-PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& scene) {
-    scene = load_scene(spec, LoadOptions{o.flip, o.strict});
+Scene load_checked(const CommonOptions& o, const std::string& spec) {
+    Scene scene = load_scene(spec, LoadOptions{o.flip, o.strict});
     print_warnings(scene, o.quiet);
-    MeshingOptions m = o.meshing;
+    return scene;
+}
+
+PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& scene) {
+    scene = load_checked(o, spec);
+    return mesh_scene(o, scene, o.meshing);
+}
+
+PatchMesh mesh_scene(const CommonOptions& o, const Scene& scene, const MeshingOptions& options) {
+    MeshingOptions m = options;
     const std::size_t by_memory = (o.max_memory_mb << 20) / kBytesPerPatch;
     m.max_patches = std::min(m.max_patches, by_memory);
     // Say what a large meshing will cost before making it, or refuse it, in one line.
@@ -116,29 +124,7 @@ PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& 
     return mesh;
 }
 
-bool default_meshing(const CommonOptions& o) {
-    return o.meshing.max_area == 0 && o.meshing.max_edge == 0 &&
-           o.meshing.target_patches == MeshingOptions{}.target_patches;
-}
-
-bool warn_about_winding(const CommonOptions& o, const Scene& scene, const std::vector<Patch>& patches,
-                        const SolveResult& result) {
-    if (o.quiet) return false;
-    const WindingReport w = check_winding(patches, result);
-    if (!w.suspicious()) return false;
-    auto name = [&](int s) { return describe(scene.surfaces[s].where, scene.surfaces[s].object); };
-    std::ostringstream msg;
-    msg.precision(3);
-    msg << "warning: orientation: " << 100.0 * w.escaped_fraction << "% of the emitted power escapes";
-    for (const int s : w.dark_emitters) msg << "; the emitter " << name(s) << " reaches no surface";
-    msg << "; with every face turned round, " << 100.0 * w.reach_turned << "% of the emitters' first bounce would land"
-        << " on the scene instead of " << 100.0 * w.reach_as_wound
-        << "%. Faces seem wound clockwise seen from their front; likely:";
-    for (std::size_t k = 0; k < w.likely_faces.size(); ++k) msg << (k ? ", " : " ") << name(w.likely_faces[k]);
-    msg << ". --flip turns every face (in JSON, \"flip\": true on an object)";
-    std::cerr << msg.str() << "\n";
-    return true;
-}
+bool default_meshing(const CommonOptions& o) { return bounce::default_meshing(o.meshing); }
 
 void check_memory(const CommonOptions& o, const std::string& what, double bytes) {
     if (bytes > double(o.max_memory_mb << 20)) {

@@ -13,6 +13,7 @@
 #include "mesh/scene.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/solve_result.h"
+#include "solver/pipeline/solve_request.h"
 #include "solver/visibility/visibility.h"
 #include "viewer/pending_output.h"
 #include "viewer/renderer.h"
@@ -46,16 +47,18 @@ void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f);
 /// --camera, --fov, --size, --exposure, --smooth, --flat, --luminance, --edges.
 void add_render_options(CLI::App* cmd, RenderOptions& r);
 
-/// Loads and meshes with the limits of --max-memory and --strict applied.
+/// Loads the scene with --strict applied, its warnings on stderr unless quiet.
+Scene load_checked(const CommonOptions& o, const std::string& spec);
+/// Meshes with the limit of --max-memory applied (saying what a large meshing costs), the
+/// mesh's warnings on stderr unless quiet.
+PatchMesh mesh_scene(const CommonOptions& o, const Scene& scene, const MeshingOptions& options);
+/// Both, with the options' own meshing.
 PatchMesh load_and_mesh(const CommonOptions& o, const std::string& spec, Scene& scene);
 
 /// True when the user gave no meshing (no --max-area, --max-edge or --patches): the element
-/// methods then start from coarser patches of their own.
+/// methods (`solve --adaptive`, `--solver hierarchical`, `compare --meshes`) then start from
+/// kCoarseTargetPatches (solver/pipeline/solve_request.h) and refine where the light needs it.
 bool default_meshing(const CommonOptions& o);
-
-/// The patches the element methods (`solve --adaptive`, `--solver hierarchical`, `compare
-/// --meshes`) aim at when default_meshing: they start coarse and refine where the light needs it.
-inline constexpr std::size_t kCoarseTargetPatches = 30;
 /// What kCoarseTargetPatches gives on the default Cornell box (contact cuts split some faces);
 /// `compare --help` says it, and a test holds it to what the runs print.
 inline constexpr std::size_t kCoarseCornellPatches = 90;
@@ -64,10 +67,5 @@ inline constexpr std::size_t kCoarseCornellPatches = 90;
 void check_memory(const CommonOptions& o, const std::string& what, double bytes);
 /// The hemicube's per-thread buffers against --max-memory (other methods need none).
 void check_form_factor_memory(const CommonOptions& o, const std::string& method, const FormFactorOptions& f);
-
-/// After a solve: warns (unless quiet) when the faces look wound the wrong way round,
-/// naming the likely faces and --flip. Returns true when it warned.
-bool warn_about_winding(const CommonOptions& o, const Scene& scene, const std::vector<Patch>& patches,
-                        const SolveResult& result);
 
 }  // namespace bounce::app

@@ -2,7 +2,8 @@
 # Fails when a folder includes from a folder further along the data flow
 # (mesh -> solver -> viewer -> app and python, the two front ends, which never include each
 # other), when a solver room includes from a room further along
-# (optics -> visibility -> form_factors -> linear -> refinement -> gather -> reference -> two_pass), or when solver/ or mesh/ mention VTK.
+# (optics -> visibility -> form_factors -> linear -> refinement -> gather -> reference -> two_pass
+# -> pipeline), or when solver/ or mesh/ mention VTK.
 set -u
 root="$1"
 bad=0
@@ -18,7 +19,7 @@ check app    'python/'
 check python 'app/'
 
 # The solver's rooms, lowest first; a new room goes into this list at its place in the flow.
-rooms=(optics visibility form_factors linear refinement gather reference two_pass)
+rooms=(optics visibility form_factors linear refinement gather reference two_pass pipeline)
 for ((i = 0; i < ${#rooms[@]}; i++)); do
   higher=("${rooms[@]:i+1}")
   ((${#higher[@]})) || continue

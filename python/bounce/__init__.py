@@ -29,14 +29,14 @@ from ._bounce import (  # noqa: F401
     form_factors,
     gather_modes,
     reference,
-    solve,
     solver_names,
     visibility_backends,
 )
 from ._bounce import load as _load
+from ._bounce import solve as _solve
 
 __all__ = [
-    "Patches", "Progress", "Scene", "Solution", "check_form_factors", "form_factor_methods",
+    "Patches", "Progress", "Scene", "Solution", "SolveRequest", "check_form_factors", "form_factor_methods",
     "form_factors", "gather_modes", "load", "reference", "solve", "solver_names", "visibility_backends",
 ]
 
@@ -58,6 +58,52 @@ def load(scene="cornell", *, patches=2000, max_area=0.0, max_edge=0.0, subdivide
         for w in s.warnings:
             _warnings.warn(w, stacklevel=2)
     return s
+
+
+class SolveRequest:
+    """The keywords of :func:`solve` as one object, to keep and reuse::
+
+        req = bounce.SolveRequest(solver="hierarchical", max_level=2)
+        sol = bounce.solve(scene, req)                 # or solve(scene, req, gather="none")
+        fine = bounce.solve(scene, req.replace(max_level=4))
+
+    The names and values are checked when it is solved, with the command line's messages.
+    """
+
+    def __init__(self, **options):
+        self.options = dict(options)
+
+    def replace(self, **options):
+        """A copy with these keywords changed or added."""
+        return SolveRequest(**{**self.options, **options})
+
+    def __eq__(self, other):
+        return isinstance(other, SolveRequest) and self.options == other.options
+
+    def __repr__(self):
+        return "SolveRequest(" + ", ".join(f"{k}={v!r}" for k, v in self.options.items()) + ")"
+
+
+def solve(scene, request=None, *, quiet=False, **options):
+    """Radiosity of a loaded scene, as ``bounce solve`` computes it (one pipeline for both).
+
+    The keywords are the command line's flags; see ``help(bounce._bounce.solve)``. A
+    SolveRequest gives them as one object (keywords given beside it win). The solution's
+    warnings (``sol.warnings``: rows of form factors above 1, faces wound the wrong way round)
+    are issued as Python warnings unless quiet.
+    """
+    if request is not None:
+        if not isinstance(request, SolveRequest):
+            raise TypeError(f"solve: request must be a bounce.SolveRequest, got {type(request).__name__}")
+        options = {**request.options, **options}
+    sol = _solve(scene, **options)
+    if not quiet:
+        for w in sol.warnings:
+            _warnings.warn(w, stacklevel=2)
+    return sol
+
+
+solve.__doc__ += "\n" + (_solve.__doc__ or "")
 
 
 def _to_meshio(self):

@@ -387,6 +387,7 @@ std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, std::
         final_gather(tree.geometry(), stage.radiosity, visibility, todo, at, options, cancel, progress);
     for (std::size_t q = 0; q < todo.size(); ++q) values[todo_vertex[q]] = gathered[q];
     res.point_radiosity = std::move(values);
+    next.set_specular_faces(elements.specular_faces());  // mirrors and glass stay in the export
     elements = std::move(next);
     return count;
 }

@@ -1,0 +1,189 @@
+// SPDX-License-Identifier: MIT
+// The solve pipeline: requests refused in each front end's words, the names of the enums,
+// the hierarchical solver's coarse roots, and the warnings the command line prints being the
+// pipeline's own.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "mesh/errors.h"
+#include "mesh/scene_loader.h"
+#include "solver/form_factors/form_factor_estimator.h"
+#include "solver/gather/point_values.h"
+#include "solver/linear/solver.h"
+#include "solver/pipeline/solve_scene.h"
+#include "test_util.h"
+
+using namespace bounce;
+
+namespace {
+
+/// The message validate() throws ("" when it accepts the request).
+std::string refusal(const SolveRequest& r, const OptionNames& names = {}) {
+    try {
+        r.validate(names);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+/// A closed box of reflectance 0.9 that glows (the furnace): every row of exact form factors
+/// sums to 1, so a coarse hemicube's rows above 1 show as energy gained.
+const char* kFurnace = R"({"name": "furnace", "materials": {"glow": {"reflectance": 0.9, "emission": 1}},
+    "objects": [{"type": "box", "material": "glow", "inward": true, "transform": {"scale": [2, 1.5, 1]}}]})";
+
+/// The lines of `text` that start with `prefix`, the prefix cut off.
+std::vector<std::string> lines_after(const std::string& text, const std::string& prefix) {
+    std::vector<std::string> lines;
+    for (std::size_t at = 0; at < text.size();) {
+        const std::size_t end = std::min(text.find('\n', at), text.size());
+        const std::string line = text.substr(at, end - at);
+        if (line.rfind(prefix, 0) == 0) lines.push_back(line.substr(prefix.size()));
+        at = end + 1;
+    }
+    return lines;
+}
+
+}  // namespace
+
+TEST(SolveRequest, EnumNamesAreTheFactoriesNames) {
+    std::vector<std::string> solvers = solver_names();
+    solvers.push_back("hierarchical");
+    EXPECT_EQ(solver_kind_names(), solvers);
+    auto methods = form_factor_method_names(), known = form_factor_methods();
+    std::sort(methods.begin(), methods.end());
+    std::sort(known.begin(), known.end());
+    EXPECT_EQ(methods, known);
+    EXPECT_EQ(gather_mode_names(), gather_modes());
+    for (const auto& name : solver_kind_names()) EXPECT_EQ(to_string(parse_solver_kind(name)), name);
+    EXPECT_EQ(parse_gather_mode("centres"), GatherMode::centres);
+}
+
+TEST(SolveRequest, RefusesInEachFrontEndsWords) {
+    SolveRequest r;
+    EXPECT_EQ(refusal(r), "");
+    r.solver = SolverKind::gauss_seidel;
+    r.adaptive = true;
+    EXPECT_EQ(refusal(r), "--adaptive is the hierarchical solver: it takes no other (got --solver gauss-seidel)");
+    r = SolveRequest{};
+    r.solver = SolverKind::hierarchical;
+    r.sor = 1.2;
+    EXPECT_EQ(refusal(r), "--sor applies to the patch solvers, not to --adaptive or hierarchical");
+    EXPECT_EQ(refusal(r, OptionNames::python()), "sor applies to the patch solvers, not to adaptive or hierarchical");
+    r = SolveRequest{};
+    r.display_tolerance = 0.0025;
+    EXPECT_EQ(refusal(r), "--display-tolerance applies to the hierarchical solver (and --adaptive)");
+    r.solver = SolverKind::hierarchical;
+    r.gather = GatherMode::none;
+    EXPECT_EQ(refusal(r, OptionNames::python()),
+              "display_tolerance refines the point data gathered at the vertices: it needs gather vertices (got none)");
+    r = SolveRequest{};
+    r.form_factors.visibility_rays = 5000;
+    EXPECT_EQ(refusal(r, OptionNames::python()), "rays: out of range, got 5000 (expected 1 to 4096)");
+    r = SolveRequest{};
+    r.retired.push_back("target-error");
+    EXPECT_EQ(refusal(r),
+              "--target-error belonged to the receiver-only refinement --adaptive ran before, now retired: "
+              "--adaptive is the hierarchical solver refining on power; set --power-epsilon (with --adaptive 1e-05 "
+              "unless given)");
+    r = SolveRequest{};
+    r.element_split = 2;
+    r.method = FormFactorMethod::exact;
+    EXPECT_EQ(refusal(r), "--elements needs the shooting solver and raycast or analytic form factors");
+    try {
+        parse_solver_kind("newton", OptionNames::python());
+        FAIL() << "newton parsed";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "solver: unknown, got 'newton' (expected one of shooting, gauss-seidel, jacobi, direct, "
+                  "hierarchical)");
+    }
+}
+
+TEST(SolveScene, HierarchicalStartsFromCoarseRootsUnlessTheMeshingIsGiven) {
+    // The default meshing (2000 patches) would be the roots of thousands of quadtrees: the
+    // hierarchical solver cuts kCoarseTargetPatches roots instead (90 on the box, whose
+    // contact cuts split some faces), and a given patch count as asked.
+    const Scene scene = load_scene("cornell");
+    SolveRequest r;
+    r.solver = SolverKind::hierarchical;
+    r.max_level = 1;
+    r.gather = GatherMode::none;
+    const SolvedScene coarse = solve_scene(scene, r);
+    EXPECT_EQ(coarse.patches, 90u);
+    ASSERT_TRUE(coarse.hierarchy);
+    EXPECT_EQ(coarse.mesh->size(), coarse.hierarchy->leaves);
+    EXPECT_GT(coarse.hierarchy->leaves, coarse.patches);
+    r.meshing.target_patches = 200;
+    const SolvedScene given = solve_scene(scene, r);
+    MeshingOptions m;
+    m.target_patches = 200;
+    EXPECT_EQ(given.patches, PatchMesh(scene, m).size());
+    EXPECT_GT(given.patches, 150u);
+    EXPECT_EQ(
+        given.settings.rfind("patches=" + std::to_string(given.patches) + " rays=4 seed=1 solver=hierarchical", 0), 0u)
+        << given.settings;
+}
+
+TEST(SolveScene, ShotRowsAboveOneWarnAsTheCommandLinePrints) {
+    // A 16-pixel hemicube overshoots each row by about 2e-3: the pipeline warns, and the
+    // command line prints exactly its warnings, each after "warning: ".
+    test::TempDir dir;
+    const auto path = dir.write("furnace.json", kFurnace);
+    SolveRequest r;
+    r.meshing.target_patches = 216;
+    r.method = FormFactorMethod::hemicube;
+    r.form_factors.hemicube_resolution = 16;
+    r.gather = GatherMode::none;
+    const SolvedScene solved = solve_scene(load_scene(path.string()), r);
+    ASSERT_EQ(solved.warnings.size(), 1u);
+    const std::string prefix = "the form-factor rows of the shots sum to 1 + ";
+    ASSERT_EQ(solved.warnings[0].rfind(prefix, 0), 0u) << solved.warnings[0];
+    const double surplus = std::stod(solved.warnings[0].substr(prefix.size()));
+    std::printf("shot rows sum to 1 + %.3g\n", surplus);
+    EXPECT_GT(surplus, 1e-3);
+    EXPECT_LT(surplus, 1e-2);
+    const auto cli = test::run(std::string(BOUNCE_EXE) + " solve " + path.string() +
+                               " --patches 216 --form-factors hemicube --hemicube-res 16 --gather none -o " +
+                               (dir / "f.vtu").string());
+    ASSERT_EQ(cli.exit_code, 0) << cli.err;
+    EXPECT_EQ(lines_after(cli.err, "warning: "), solved.warnings) << cli.err;
+    // Exact rows: no warning from either.
+    r.method = FormFactorMethod::exact;
+    EXPECT_TRUE(solve_scene(load_scene(path.string()), r).warnings.empty());
+}
+
+TEST(SolveScene, GatheringSolverWarnsWhenRowsSumAboveOne) {
+    // With the whole matrix the rows are summed before solving: the same hemicube's rows
+    // exceed 1 by more than 1e-3 somewhere.
+    test::TempDir dir;
+    const auto path = dir.write("furnace.json", kFurnace);
+    SolveRequest r;
+    r.meshing.target_patches = 216;
+    r.solver = SolverKind::gauss_seidel;
+    r.method = FormFactorMethod::hemicube;
+    r.form_factors.hemicube_resolution = 16;
+    r.gather = GatherMode::none;
+    const SolvedScene solved = solve_scene(load_scene(path.string()), r);
+    ASSERT_FALSE(solved.warnings.empty());
+    EXPECT_EQ(solved.warnings[0].rfind("form-factor rows sum to up to 1 + ", 0), 0u) << solved.warnings[0];
+    EXPECT_GT(solved.form_factor_seconds, 0.0);
+}
+
+TEST(SolveScene, CancelledBeforeTheSolveReturnsTheStartingState) {
+    // A set flag stops the shooting at its first check: status interrupted, no point gather.
+    std::atomic<bool> cancel{true};
+    SolveHooks hooks;
+    hooks.cancel = &cancel;
+    SolveRequest r;
+    r.meshing.target_patches = 100;
+    const SolvedScene solved = solve_scene(load_scene("cornell"), r, hooks);
+    EXPECT_EQ(to_string(solved.result.status), "interrupted");
+    EXPECT_FALSE(solved.gathered);
+    EXPECT_TRUE(solved.result.point_radiosity.empty());
+}
