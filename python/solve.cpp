@@ -298,7 +298,7 @@ void bind_solve(py::module_& m) {
           "solver with power_epsilon 1e-5 unless given; target_error and max_patches are retired and refused; "
           "display_tolerance above 0 splits cells for display where linear interpolation of the point data would "
           "miss the gathered light (the solution is then over the display cells, each patch's power kept): 0.02 "
-          "for the patch solvers (0 with series), 0.0025 with adaptive, 0 for hierarchical, unless given). "
+          "for the patch solvers, 0.0025 with adaptive, 0 for hierarchical, unless given). "
           "Unset, tolerance is 1e-3 (shooting: the largest relative error of a patch that the light still unshot "
           "would add, as estimated from the convergence; hierarchical: 1e-6, the largest change of an element per "
           "iteration relative to the mean), max_iterations none for shooting (it stops as stalled when the unshot "

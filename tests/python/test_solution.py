@@ -92,8 +92,13 @@ def test_every_point_is_a_patch_corner(scene, gather):
     assert len(used) == len(vertices)
     assert used[0] == 0 and used[-1] == len(vertices) - 1
     sol = bounce.solve(scene, tolerance=1e-4, gather=gather)
+    # The solution's cells: the scene's patches, or with gathered vertices its display cells.
+    cells = sol.patches.faces
+    cell_vertices = np.asarray(sol.patches.vertices)
+    used = np.unique(cells[cells >= 0])
+    assert len(used) == len(cell_vertices)
     points = np.asarray(sol.point_radiosity)
-    assert points.shape == vertices.shape
+    assert points.shape == cell_vertices.shape
     assert points.max(axis=1).min() > 0
 
 
@@ -196,8 +201,9 @@ def test_display_refinement_adds_cells_like_the_command_line(run_cli, tmp_path):
     assert_same(sol.point_radiosity, cli.point_data["radiosity"], "point radiosity")
     with pytest.raises(ValueError, match="display_tolerance refines the point data gathered at the vertices"):
         bounce.solve(scene, solver="hierarchical", max_level=1, display_tolerance=0.0025, gather="none")
-    with pytest.raises(ValueError, match="display_tolerance applies to the hierarchical solver"):
-        bounce.solve(scene, display_tolerance=0.0025)
+    # The patch solvers take it too (they split patches into display cells).
+    shown = bounce.solve(bounce.load("cornell", patches=300), display_tolerance=0.02)
+    assert len(shown.radiosity) == len(shown.patches) > 300
 
 
 @pytest.mark.parametrize(

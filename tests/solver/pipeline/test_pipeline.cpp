@@ -77,7 +77,9 @@ TEST(SolveRequest, RefusesInEachFrontEndsWords) {
     EXPECT_EQ(refusal(r, OptionNames::python()), "sor applies to the patch solvers, not to adaptive or hierarchical");
     r = SolveRequest{};
     r.display_tolerance = 0.0025;
-    EXPECT_EQ(refusal(r), "--display-tolerance applies to the hierarchical solver (and --adaptive)");
+    r.series = 5;
+    EXPECT_EQ(refusal(r), "--display-tolerance does not combine with --elements or --series");
+    r.series.reset();
     r.solver = SolverKind::hierarchical;
     r.gather = GatherMode::none;
     EXPECT_EQ(refusal(r, OptionNames::python()),
