@@ -952,11 +952,22 @@ TEST(Cli, PrintedSecondsAreTheWallTimeOfTheSolveAndGather) {
             ASSERT_EQ(bounce_run("info -q " + c.meshing).exit_code, 0);
             startup = std::min(startup, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
-        const auto t0 = std::chrono::steady_clock::now();
-        const auto r = bounce_run("solve " + c.meshing + " " + c.solver + " -o " + (dir / "s.vtu").string());
-        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        ASSERT_EQ(r.exit_code, 0) << c.solver << ": " << r.err;
-        const double printed = printed_seconds(r.out);
+        // Of two runs, the one whose untimed parts (start-up, writing) took least: on a shared
+        // machine another process may stall either.
+        double wall = 0.0, printed = 0.0;
+        test::RunResult r;
+        for (int k = 0; k < 2; ++k) {
+            const auto t0 = std::chrono::steady_clock::now();
+            auto run = bounce_run("solve " + c.meshing + " " + c.solver + " -o " + (dir / "s.vtu").string());
+            const double w = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            ASSERT_EQ(run.exit_code, 0) << c.solver << ": " << run.err;
+            const double p = printed_seconds(run.out);
+            if (k == 0 || w - p < wall - printed) {
+                wall = w;
+                printed = p;
+                r = std::move(run);
+            }
+        }
         std::printf("%s %s: printed %.3f s, wall %.3f s, start-up %.3f s\n", c.meshing.c_str(), c.solver.c_str(),
                     printed, wall, startup);
         EXPECT_NE(r.out.find(" s (form factors, "), std::string::npos) << r.out;
