@@ -7,6 +7,8 @@
 // values within 5% RMS, in relative luminance.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -107,13 +109,19 @@ TEST(DefaultStudy, DisplayCellsMeetThePointDataGoalsWhereItIsHard) {
     EXPECT_GE(by_class[1].scored, 40u);
 }
 
-// The corridor's far leg, lit only from the walls, keeps its point data at about 1.9% RMS (the
-// goal's 1.5% is not met there yet); its penumbrae meet theirs.
-TEST(DefaultCorridor, DisplayCellsMeetThePenumbraGoal) {
+// The corridor's reference is path-traced to a budget, not to 0.5%, in its dark far leg: its own
+// noise is about 1.6% RMS over the probes, so the point data's error is what the RMS holds
+// beyond that noise (in quadrature: the two are independent).
+TEST(DefaultCorridor, DisplayCellsMeetThePointDataGoalsBeyondTheReferencesNoise) {
     ProbeScore all;
     const auto by_class = default_run_by_class(std::string(BOUNCE_SOURCE_DIR) + "/examples/scenes/corridor.obj",
                                                "examples/reference/corridor_classes_192.csv", all);
     EXPECT_GE(all.scored, 180u);
+    const double beyond_noise =
+        std::sqrt(std::max(0.0, all.rms_smooth * all.rms_smooth - all.reference_noise * all.reference_noise));
+    std::cout << "corridor: reference noise " << all.reference_noise << " RMS; point data beyond it " << beyond_noise
+              << "\n";
+    EXPECT_LE(beyond_noise, 0.015);
     EXPECT_LE(by_class[1].rms_smooth, 0.03);
     EXPECT_GE(by_class[1].scored, 10u);  // its penumbrae are thin: 12 of its probes
 }
