@@ -69,11 +69,10 @@ private:
     }
     std::size_t total_runs() const;
     void starting(const std::string& what) { m_progress.runs("compare --meshes", m_runs_done, m_total_runs, what); }
-    ProbeScore score_mesh(const PatchMesh& m, const std::vector<Rgb>& B, double& seconds, bool& gathered) const;
+    ProbeScore score_mesh(const PatchMesh& m, const std::vector<Rgb>& B, double& seconds, bool& gathered,
+                          double display = 0.0) const;
     void add_row(std::string method, std::string setting, std::size_t links, double seconds, double rms,
-                 const PatchMesh& m, const std::vector<Rgb>& B);
-    void add_display_row(const char* family, std::size_t n, double display, double solved, const PatchMesh& um,
-                         const std::vector<Rgb>& B);
+                 const PatchMesh& m, const std::vector<Rgb>& B, double display = 0.0);
     /// RMS against the fine uniform elements ("vs fine"; -1 without them, --reference-level 0).
     double vs_fine(const ElementTree& tree, const std::vector<std::uint32_t>& leaves, const std::vector<Rgb>& B) const {
         return m_reference ? rms_difference(tree, leaves, B, *m_reference) : -1.0;
@@ -129,26 +128,30 @@ std::size_t MeshComparison::total_runs() const {
 /// Scores a solution as solve would write it: point data gathered (the time added to the row's
 /// seconds) when the mesh is within the gather's budget. (A hierarchical solution gathers
 /// through its links, run_hierarchical_one, and weighs its own budget from the lists it builds.)
-ProbeScore MeshComparison::score_mesh(const PatchMesh& m, const std::vector<Rgb>& B, double& seconds,
-                                      bool& gathered) const {
+ProbeScore MeshComparison::score_mesh(const PatchMesh& m, const std::vector<Rgb>& B, double& seconds, bool& gathered,
+                                      double display) const {
     SolveResult r;
     r.radiosity = B;
     gathered = false;
+    std::optional<PatchMesh> cells;  // with display refinement (solve --display-tolerance): its cells
     if (m_c.gather != "none" && double(m.mesh().n_vertices()) * double(m.size()) <= kMaxGatherPairs) {
         const auto t0 = std::chrono::steady_clock::now();  // the gather's visibility counted too
         const auto v = make_visibility(m_o.visibility, m.patches(), specular_occluders(m_scene));
-        gathered = gather_point_values(m, *v, r, "vertices", true);
+        if (display > 0)
+            gathered = gather_point_values(cells.emplace(m), *v, r, "vertices", PatchDisplayRefinement{display}, true);
+        else
+            gathered = gather_point_values(m, *v, r, "vertices", true);
         seconds += seconds_since(t0);
     }
-    return score_at_probes(m, B, m_probes, r.point_radiosity);
+    return score_at_probes(cells ? *cells : m, r.radiosity, m_probes, r.point_radiosity);
 }
 
 void MeshComparison::add_row(std::string method, std::string setting, std::size_t links, double seconds, double rms,
-                             const PatchMesh& m, const std::vector<Rgb>& B) {
+                             const PatchMesh& m, const std::vector<Rgb>& B, double display) {
     ++m_runs_done;
     if (g_interrupted.load()) return;
     Row r{std::move(method), std::move(setting), m.size(), links, seconds, rms, {}, false};
-    r.probe = score_mesh(m, B, r.seconds, r.gathered);
+    r.probe = score_mesh(m, B, r.seconds, r.gathered, display);
     if (!g_interrupted.load()) m_rows.push_back(std::move(r));
 }
 
@@ -195,34 +198,19 @@ void MeshComparison::run_patch_meshes() {
             const SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
             const double solved = seconds_since(t0);
             for (const double display : m_c.display_tolerances) {
-                if (display == 0)
-                    add_row(family, "--patches " + std::to_string(n), 0, solved, -1.0, um, r.radiosity);
-                else
-                    add_display_row(family, n, display, solved, um, r.radiosity);
+                // A display row needs gathered point data to refine; without, it is not made.
+                if (display > 0 && m_c.gather == "none") {
+                    ++m_runs_done;
+                    continue;
+                }
+                std::ostringstream setting;
+                setting << "--patches " << n;
+                if (display > 0) setting << " display " << display;
+                add_row(family, setting.str(), 0, solved, -1.0, um, r.radiosity, display);
                 if (g_interrupted.load()) return;
             }
         }
     }
-}
-
-/// A patch mesh's row with display refinement (solve --display-tolerance): the solve's time
-/// plus its gather's, the point data and the cells' values as solve writes them.
-void MeshComparison::add_display_row(const char* family, std::size_t n, double display, double solved,
-                                     const PatchMesh& um, const std::vector<Rgb>& B) {
-    ++m_runs_done;
-    if (g_interrupted.load() || m_c.gather == "none") return;
-    std::ostringstream setting;
-    setting << "--patches " << n << " display " << display;
-    Row row{family, setting.str(), um.size(), 0, solved, -1.0, {}, false};
-    const auto t1 = std::chrono::steady_clock::now();
-    PatchMesh cells = um;
-    SolveResult g;
-    g.radiosity = B;
-    const auto v = make_visibility(m_o.visibility, cells.patches(), specular_occluders(m_scene));
-    row.gathered = gather_point_values(cells, *v, g, "vertices", PatchDisplayRefinement{display}, true);
-    row.seconds += seconds_since(t1);
-    row.probe = score_at_probes(cells, g.radiosity, m_probes, g.point_radiosity);
-    if (!g_interrupted.load()) m_rows.push_back(std::move(row));
 }
 
 /// The receiver-only refinement `solve --adaptive` ran before it became the hierarchical solver

@@ -8,11 +8,17 @@
 
 namespace bounce {
 
+std::array<double, 4> patch_point_weights(const Patch& p, double u, double v) {
+    if (p.vertex_count == 4) return {(1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v};
+    const double su = std::sqrt(u);
+    return {1 - su, su * (1 - v), su * v, 0.0};
+}
+
 glm::dvec3 patch_point(const Patch& p, double u, double v) {
     const auto& c = p.vertices;
-    if (p.vertex_count == 4) return (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3];
-    const double su = std::sqrt(u);
-    return (1 - su) * c[0] + su * (1 - v) * c[1] + su * v * c[2];
+    const std::array<double, 4> w = patch_point_weights(p, u, v);
+    if (p.vertex_count == 4) return w[0] * c[0] + w[1] * c[1] + w[2] * c[2] + w[3] * c[3];
+    return w[0] * c[0] + w[1] * c[1] + w[2] * c[2];
 }
 
 namespace {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <array>
+
 #include <cstdint>
 #include <vector>
 
@@ -27,6 +29,11 @@ void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w);
 /// The point of a patch at unit-square coordinates (u, v): bilinear for quads, the
 /// area-uniform square-root warp for triangles.
 glm::dvec3 patch_point(const Patch& patch, double u, double v);
+
+/// The weights of the patch's corners at patch_point(patch, u, v): the bilinear weights of a
+/// quad, the barycentric ones of a triangle through the square-root warp (the fourth 0). A
+/// value given at the corners interpolates there with the same weights.
+std::array<double, 4> patch_point_weights(const Patch& patch, double u, double v);
 
 /// Small, fast, seedable generator (SplitMix64, Steele et al. 2014) so every patch pair gets
 /// its own reproducible stream whatever the thread schedule.

@@ -99,17 +99,12 @@ int grid_side(int want) {
 }
 
 /// A sample's share of its patch's radiosity, per channel: the interpolation of the corner
-/// values at unit-square coordinates (u, v) (patch_point's: bilinear for quads, barycentric
-/// through the square-root warp for triangles) over their mean, 1 where the mean is 0.
+/// values at unit-square coordinates (u, v) (patch_point_weights) over their mean, 1 where
+/// the mean is 0.
 Rgb corner_shape(const Patch& p, const Rgb* corners, const Rgb& mean, double u, double v) {
+    const std::array<double, 4> w = patch_point_weights(p, u, v);
     Rgb at;
-    if (p.vertex_count == 4) {
-        at = corners[0] * ((1 - u) * (1 - v)) + corners[1] * (u * (1 - v)) + corners[2] * (u * v) +
-             corners[3] * ((1 - u) * v);
-    } else {
-        const double su = std::sqrt(u);
-        at = corners[0] * (1 - su) + corners[1] * (su * (1 - v)) + corners[2] * (su * v);
-    }
+    for (int k = 0; k < p.vertex_count; ++k) at += corners[k] * w[std::size_t(k)];
     Rgb out;
     for (int c = 0; c < 3; ++c) out[c] = mean[c] > 0 ? at[c] / mean[c] : 1.0;
     return out;

@@ -29,6 +29,12 @@ struct SplitPoint {
     std::array<int, 4> corners;
 };
 
+/// How far a gathered value misses what interpolation gives there, as a share of the larger
+/// of the two, or of `floor` where both are darker.
+double relative_miss(double value, double interpolated, double floor) {
+    return std::abs(value - interpolated) / std::max({value, interpolated, floor});
+}
+
 std::vector<SplitPoint> split_points(const ElementTree::Node& n) {
     const auto& c = n.corners;
     const auto mid = [&](int a, int b) { return SplitPoint{0.5 * (c[a] + c[b]), {a, b, -1, -1}}; };
@@ -37,13 +43,12 @@ std::vector<SplitPoint> split_points(const ElementTree::Node& n) {
     return {mid(0, 1), mid(1, 2), mid(2, 0)};
 }
 
-/// Per new point of a split node (split_points' order), how far the value gathered there
-/// misses the interpolation between the node's corners, as a share of max(value,
-/// interpolation, floor); 0 where a value is unknown.
-std::vector<double> split_misses(const ElementTree& tree, const PointValues& known, std::uint32_t node, int surface,
-                                 double floor) {
+/// Per new point of a split node (`points`, its split_points), the relative_miss of the value
+/// gathered there against the interpolation between the node's corners; 0 where a value is
+/// unknown.
+std::vector<double> split_misses(const ElementTree& tree, const PointValues& known, std::uint32_t node,
+                                 const std::vector<SplitPoint>& points, int surface, double floor) {
     const ElementTree::Node& n = tree.node(node);
-    const std::vector<SplitPoint> points = split_points(n);
     std::vector<double> out(points.size(), 0.0);
     std::array<double, 4> corner{};
     for (int k = 0; k < n.corner_count; ++k) {
@@ -61,17 +66,16 @@ std::vector<double> split_misses(const ElementTree& tree, const PointValues& kno
                 sum += corner[std::size_t(k)];
                 ++count;
             }
-        const double interpolated = sum / count, value = v->luminance();
-        out[q] = std::abs(value - interpolated) / std::max({value, interpolated, floor});
+        out[q] = relative_miss(v->luminance(), sum / count, floor);
     }
     return out;
 }
 
-/// True when child `c` of a split node has a corner at one of the node's new points that
-/// missed by more than `tolerance`: the light bends there, so the child may need a split too.
-bool child_touches_a_miss(const ElementTree& tree, std::uint32_t node, std::uint32_t c,
+/// True when child `c` of a split node has a corner at one of the node's new points (`points`,
+/// with their `misses`) that missed by more than `tolerance`: the light bends there, so the
+/// child may need a split too.
+bool child_touches_a_miss(const ElementTree& tree, std::uint32_t c, const std::vector<SplitPoint>& points,
                           const std::vector<double>& misses, double tolerance) {
-    const std::vector<SplitPoint> points = split_points(tree.node(node));
     const ElementTree::Node& child = tree.node(c);
     for (std::size_t q = 0; q < points.size(); ++q) {
         if (misses[q] <= tolerance) continue;
@@ -83,13 +87,13 @@ bool child_touches_a_miss(const ElementTree& tree, std::uint32_t node, std::uint
     return false;
 }
 
-/// Gathers, from the solved patches, every vertex of `mesh` not yet in `known`, and adds it.
-/// False when `cancel` was set.
-bool gather_new_vertices(const PatchMesh& mesh, const std::vector<Patch>& sources, const std::vector<Rgb>& radiosity,
+/// Gathers, from the solved patches, every vertex of `mesh` (whose gather points are
+/// `points`, vertex_gather_points') not yet in `known`, and adds it. False when `cancel` was set.
+bool gather_new_vertices(const PatchMesh& mesh, const std::vector<GatherPoint>& points,
+                         const std::vector<Patch>& sources, const std::vector<Rgb>& radiosity,
                          const Visibility& visibility, const GatherOptions& options, PointValues& known,
                          const std::atomic<bool>* cancel,
                          const std::function<void(std::size_t, std::size_t)>& progress) {
-    const std::vector<GatherPoint> points = vertex_gather_points(mesh);
     std::vector<GatherPoint> todo;
     std::vector<glm::dvec3> at;
     for (std::size_t v = 0; v < points.size(); ++v)
@@ -243,19 +247,18 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     }
     const double floor = 0.01 * power / area;
     for (std::size_t p = 0; p < n; ++p) {
-        double corners = 0.0;
+        double corner_mean = 0.0;
         const std::vector<int> vertices = mesh.patch_vertex_indices(p);
         for (const int v : vertices) {
-            corners += res.point_radiosity[std::size_t(v)].luminance();
+            corner_mean += res.point_radiosity[std::size_t(v)].luminance();
             if (!added[std::size_t(v)]) {
                 known.add(sources[p].surface,
                           {mesh.vertex_position(std::size_t(v)), res.point_radiosity[std::size_t(v)]});
                 added[std::size_t(v)] = 1;
             }
         }
-        corners /= double(vertices.size());
-        const double b = radiosity[p].luminance();
-        if (std::abs(b - corners) > options.tolerance * std::max({b, corners, floor}))
+        corner_mean /= double(vertices.size());
+        if (relative_miss(radiosity[p].luminance(), corner_mean, floor) > options.tolerance)
             active.push_back(std::uint32_t(p));
     }
     std::vector<std::uint32_t> cells(n);
@@ -279,21 +282,24 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
         pairs += 5.0 * double(active.size()) * double(n);
         if (pairs > kMaxGatherPairs) break;
         const PatchMesh next = tree.conforming_mesh(trial);
-        if (!gather_new_vertices(next, sources, radiosity, visibility, shaped, known, cancel, progress)) return 0;
+        if (!gather_new_vertices(next, vertex_gather_points(next), sources, radiosity, visibility, shaped, known,
+                                 cancel, progress))
+            return 0;
         // Keep the splits whose new points the interpolation misses; the others go back to
         // their parent (its gathered points are then left unused).
         std::vector<std::uint8_t> undo(tree.size(), 0);
         std::vector<std::uint32_t> next_active;
         for (const std::uint32_t a : active) {
             const ElementTree::Node& node = tree.node(a);
-            const std::vector<double> misses = split_misses(tree, known, a, sources[node.root].surface, floor);
+            const std::vector<SplitPoint> points = split_points(node);
+            const std::vector<double> misses = split_misses(tree, known, a, points, sources[node.root].surface, floor);
             if (*std::max_element(misses.begin(), misses.end()) <= options.tolerance) {
                 undo[a] = 1;
                 continue;
             }
             for (std::int32_t k = 0; k < 4; ++k) {
                 const auto child = std::uint32_t(node.first_child + k);
-                if (child_touches_a_miss(tree, a, child, misses, options.tolerance)) next_active.push_back(child);
+                if (child_touches_a_miss(tree, child, points, misses, options.tolerance)) next_active.push_back(child);
             }
         }
         cells.clear();
@@ -310,8 +316,9 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     }
     if (cells.size() == n) return 0;
     PatchMesh refined = tree.conforming_mesh(cells);
-    if (!gather_new_vertices(refined, sources, radiosity, visibility, shaped, known, cancel, progress)) return 0;
     const std::vector<GatherPoint> points = vertex_gather_points(refined);
+    if (!gather_new_vertices(refined, points, sources, radiosity, visibility, shaped, known, cancel, progress))
+        return 0;
     std::vector<Rgb> values(points.size());
     for (std::size_t v = 0; v < points.size(); ++v)
         if (const Rgb* known_value = known.find(points[v].surface, refined.vertex_position(v)))

@@ -272,7 +272,7 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
         return gather_point_values(*mesh, *visibility, out.result, to_string(r.gather), hooks.cancel, hooks.items);
     });
     out.result.seconds = seconds_since(start);
-    if (display.tolerance > 0 && cells) {
+    if (cells) {
         std::ostringstream shown;
         shown << " display_tolerance=" << display.tolerance << " display_cells=" << cells->size();
         out.settings += shown.str();
