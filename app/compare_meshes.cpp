@@ -26,6 +26,7 @@
 #include "mesh/patch_mesh.h"
 #include "mesh/specular_occluders.h"
 #include "solver/form_factors/form_factor_estimator.h"
+#include "solver/form_factors/open_parts.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/reference/probe_classes.h"
 #include "solver/reference/probe_score.h"
@@ -192,9 +193,11 @@ void MeshComparison::run_patch_meshes() {
             const PatchMesh um(m_scene, m);
             const auto uv = make_visibility(m_o.visibility, um.patches(), specular_occluders(m_scene));
             const auto ff = make_form_factor_estimator("raycast", um.patches(), uv.get(), m_c.ff);
+            const std::vector<OpenPart> open = open_parts(um.patches(), *uv);
             SolverOptions so;
             so.tolerance = m_c.options.tolerance;  // --tolerance, as solve's
             so.cancel = &g_interrupted;
+            so.open_parts = &open;  // as solve's patch solvers
             const SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
             const double solved = seconds_since(t0);
             for (const double display : m_c.display_tolerances) {

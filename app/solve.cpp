@@ -48,6 +48,7 @@ struct SolveCommand {
     std::vector<std::string> retired;
     HierarchicalOptions hierarchical;
     bool no_clustering = false;       // hierarchical: refine every pair of patches, no cluster hierarchy
+    bool whole_patches = false;       // patch solvers: no open parts (open_parts.h)
     std::string gather = "vertices";  // point data: final gather at the vertices (point_values.h)
     double display_tolerance = 0.0;   // hierarchical: display refinement of the point data, 0: off
     // The options whose being given matters (SolveRequest's optional fields), by key.
@@ -85,6 +86,7 @@ SolveRequest request_of(const CommonOptions& o, const SolveCommand& s) {
     r.refine_rounds = s.hierarchical.refine_rounds;
     r.max_level = s.hierarchical.max_level;
     r.clustering = !s.no_clustering;
+    r.open_parts = !s.whole_patches;
     r.gather = parse_gather_mode(s.gather);
     if (s.was_given("display-tolerance")) r.display_tolerance = s.display_tolerance;
     return r;
@@ -324,6 +326,10 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
     solve_cmd->add_option("--form-factors", solve->method, "raycast, exact, hemicube, or analytic (no occlusion)")
         ->check(CLI::IsMember(form_factor_methods()));
     add_form_factor_options(solve_cmd, solve->ff);
+    solve_cmd->add_flag("--whole-patches", solve->whole_patches,
+                        "patch solvers: solve on whole patches, not on their parts open to the scene (a patch "
+                        "partly under another object then loses the light its buried part sends, and rows keep "
+                        "their sampling error)");
     solve_cmd->add_flag("--ascii", solve->ascii, "write ASCII instead of compressed binary");
     solve_cmd->add_flag("--paraview", solve->paraview,
                         "also write OUT_paraview.py beside OUT.vtu: a ParaView script (pvpython, or the GUI's "

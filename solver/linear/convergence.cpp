@@ -73,11 +73,52 @@ void gathered_energy_account(const std::vector<Patch>& geometry, const std::vect
     res.escaped_power = power - arriving;
 }
 
-void matrix_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& F, SolveResult& res) {
+namespace {
+
+// Receiving form (H_i = sum_j F_ij B_j): the open parts' matrix is not reciprocal in the whole
+// areas, so what lands where is read from the rows that gather it.
+void open_part_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& F, SolveResult& res,
+                              const std::vector<OpenPart>& open) {
+    const std::size_t n = P.size();
+    std::vector<double> landing(n, 0.0);  // per sender j: sum_i F_ij A_i, the area-weighted part that lands
+    for (std::size_t i = 0; i < n; ++i) {
+        const float* row = F.row(i);
+        Rgb h;
+        for (std::size_t j = 0; j < n; ++j) {
+            h += res.radiosity[j] * double(row[j]);
+            landing[j] += double(row[j]) * P[i].area;
+        }
+        res.irradiance[i] = h;
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+        res.emitted_power += P[j].emission * P[j].area;
+        const Rgb left = res.radiosity[j] * (P[j].area - landing[j]);
+        res.absorbed_power += left * open[j].back_share;
+        res.back_absorbed_power += left * open[j].back_share;
+        res.escaped_power += left * (1.0 - open[j].back_share);
+        const Rgb arriving = res.irradiance[j] * P[j].area;
+        res.absorbed_power += arriving - P[j].reflectance * arriving;
+    }
+}
+
+}  // namespace
+
+void matrix_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& F, SolveResult& res,
+                           const std::vector<OpenPart>* open) {
     const std::size_t n = P.size();
     res.irradiance.assign(n, Rgb());
     res.unshot.assign(n, Rgb());
     res.emitted_power = res.absorbed_power = res.escaped_power = res.unshot_power = Rgb();
+    res.back_absorbed_power = Rgb();
+    if (open) {
+        open_part_energy_account(P, F, res, *open);
+        for (std::size_t j = 0; j < n; ++j) {
+            const Rgb owed = P[j].emission + P[j].reflectance * res.irradiance[j] - res.radiosity[j];
+            res.unshot_power += owed * P[j].area;
+        }
+        res.unshot_fraction = res.emitted_power.sum() > 0 ? res.unshot_power.sum() / res.emitted_power.sum() : 0.0;
+        return;
+    }
     std::vector<double> sums = F.row_sums();
     for (std::size_t i = 0; i < n; ++i) {
         res.emitted_power += P[i].emission * P[i].area;

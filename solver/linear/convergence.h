@@ -6,6 +6,7 @@
 
 #include "mesh/patch.h"
 #include "solver/form_factors/form_factor_matrix.h"
+#include "solver/form_factors/open_parts.h"
 #include "solver/linear/solve_result.h"
 
 namespace bounce {
@@ -35,6 +36,10 @@ void gathered_energy_account(const std::vector<Patch>& geometry, const std::vect
 /// irradiance H_j = sum_i B_i A_i F_ij / A_j, emitted, absorbed ((1 - rho) H A) and escaped
 /// power (B A times what row i leaves unsummed, 1 - sum_j F_ij), and as unshot power what
 /// B still differs from E + rho H by (the residual a gathering solver still owes).
-void matrix_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& F, SolveResult& res);
+/// With `open` (open_parts.h), P are the open parts and F their matrix (open_part_matrix):
+/// what each open part sends that lands on no front goes to back sides (absorbed) and out
+/// (escaped) in the shares its rays saw.
+void matrix_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& F, SolveResult& res,
+                           const std::vector<OpenPart>* open = nullptr);
 
 }  // namespace bounce

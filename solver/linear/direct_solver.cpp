@@ -120,7 +120,7 @@ SolveResult DirectSolver::solve() {
         r.seconds = res.seconds;
         r.residual = res.residual;
         res.log.push_back(r);
-        matrix_energy_account(P, m_F, res);
+        matrix_energy_account(P, m_F, res, m_options.open_parts);
         return res;
     }
     res.steps = 1;
@@ -134,7 +134,7 @@ SolveResult DirectSolver::solve() {
     r.residual = res.residual;
     if (m_options.reference) reference_errors(res.radiosity, *m_options.reference, r.rms_error, r.max_error);
     res.log.push_back(r);
-    matrix_energy_account(P, m_F, res);
+    matrix_energy_account(P, m_F, res, m_options.open_parts);
     return res;
 }
 

@@ -120,7 +120,7 @@ SolveResult GatheringSolver::solve() {
         snap.steps = step;
         snap.residual = residual;
         snap.radiosity = b;
-        matrix_energy_account(P, m_F, snap);
+        matrix_energy_account(P, m_F, snap, m_options.open_parts);
         snap.seconds = seconds_since(t0);
         m_options.snapshot(snap);
     };
@@ -158,7 +158,7 @@ SolveResult GatheringSolver::solve() {
     }
     res.radiosity = B;
     res.seconds = seconds_since(t0);
-    matrix_energy_account(P, m_F, res);
+    matrix_energy_account(P, m_F, res, m_options.open_parts);
     return res;
 }
 

@@ -121,6 +121,8 @@ private:
     const float* row_of(std::size_t shooter);
     /// Shoots the shooter's unshot radiosity (and, over-shooting, more) to every receiver.
     void shoot(std::size_t shooter, const float* row, const Rgb& unshot_signed);
+    /// The same with open parts (SolverOptions::open_parts), after the shooter gave up `shot`.
+    void shoot_open(std::size_t shooter, const float* row, const Rgb& shot);
 
     Rgb ambient_of(const Rgb& unshot_power) const;
     void with_ambient(std::vector<Rgb>& out) const;
@@ -142,6 +144,8 @@ private:
     // The per-shot loops read only these two fields; packed, they stay in cache.
     std::vector<double> m_patch_area;
     std::vector<Rgb> m_patch_rho;
+    // With open parts: areas above are the open parts' (a_i A_i); rows are the whole patches'.
+    const std::vector<OpenPart>* m_open = nullptr;
     // Shooters and their elements: without a hierarchy every patch shoots for itself
     // (parents: the identity).
     std::vector<std::uint32_t> m_identity;
@@ -178,19 +182,23 @@ ShootingRun::ShootingRun(const std::vector<Patch>& patches, const FormFactorEsti
     m_res.radiosity.resize(m_n);
     m_res.irradiance.assign(m_n, Rgb());
     m_res.unshot.resize(m_n);
-    for (std::size_t i = 0; i < m_n; ++i) {
-        m_res.radiosity[i] = m_patches[i].emission;
-        m_res.unshot[i] = m_patches[i].emission;
-        m_res.emitted_power += m_patches[i].emission * m_patches[i].area;
+    if (m_options.open_parts && !m_hierarchy.shooters) {
+        if (m_options.open_parts->size() != m_n) throw std::invalid_argument("open parts: one per patch");
+        m_open = m_options.open_parts;
     }
-    m_emitted = m_res.emitted_power.sum();
-    if (!(m_emitted > 0.0)) throw std::invalid_argument("the scene emits no light: no surface has emission > 0");
     m_patch_area.resize(m_n);
     m_patch_rho.resize(m_n);
     for (std::size_t i = 0; i < m_n; ++i) {
-        m_patch_area[i] = m_patches[i].area;
+        m_patch_area[i] = m_patches[i].area * (m_open ? (*m_open)[i].receiving_share() : 1.0);
         m_patch_rho[i] = m_patches[i].reflectance;
     }
+    for (std::size_t i = 0; i < m_n; ++i) {
+        m_res.radiosity[i] = m_patches[i].emission;
+        m_res.unshot[i] = m_patches[i].emission;
+        m_res.emitted_power += m_patches[i].emission * m_patch_area[i];
+    }
+    m_emitted = m_res.emitted_power.sum();
+    if (!(m_emitted > 0.0)) throw std::invalid_argument("the scene emits no light: no surface has emission > 0");
     m_shooters = m_hierarchy.shooters ? m_hierarchy.shooters : &m_patches;
     m_ns = m_shooters->size();
     if (!m_hierarchy.parents) {
@@ -218,8 +226,8 @@ ShootingRun::ShootingRun(const std::vector<Patch>& patches, const FormFactorEsti
     m_max_shots = m_options.max_iterations ? m_options.max_iterations : SIZE_MAX;
     m_res.status = SolveStatus::max_iterations;
     for (std::size_t i = 0; i < m_n; ++i) {
-        m_rho_area += m_patches[i].reflectance * m_patches[i].area;
-        m_area += m_patches[i].area;
+        m_rho_area += m_patches[i].reflectance * m_patch_area[i];
+        m_area += m_patch_area[i];
     }
     Rgb amplification;
     for (int c = 0; c < 3; ++c) {
@@ -242,7 +250,7 @@ Rgb ShootingRun::ambient_of(const Rgb& unshot_power) const {
 
 void ShootingRun::with_ambient(std::vector<Rgb>& out) const {
     Rgb unshot_power;
-    for (std::size_t i = 0; i < m_n; ++i) unshot_power += m_res.unshot[i] * m_patches[i].area;
+    for (std::size_t i = 0; i < m_n; ++i) unshot_power += m_res.unshot[i] * m_patch_area[i];
     const Rgb ambient = ambient_of(unshot_power);
     out.resize(m_n);
     for (std::size_t i = 0; i < m_n; ++i) out[i] = m_res.radiosity[i] + m_patches[i].reflectance * ambient;
@@ -281,11 +289,12 @@ void ShootingRun::snapshot() {
     snap.emitted_power = m_res.emitted_power;
     snap.absorbed_power = m_res.absorbed_power;
     snap.escaped_power = m_res.escaped_power;
+    snap.back_absorbed_power = m_res.back_absorbed_power;
     double unshot_total = 0.0;
     for (std::size_t i = 0; i < m_n; ++i) {
         const Rgb& u = m_res.unshot[i];
-        snap.unshot_power += u * m_patches[i].area;
-        unshot_total += (std::abs(u.r) + std::abs(u.g) + std::abs(u.b)) * m_patches[i].area;
+        snap.unshot_power += u * m_patch_area[i];
+        unshot_total += (std::abs(u.r) + std::abs(u.g) + std::abs(u.b)) * m_patch_area[i];
     }
     snap.unshot_fraction = unshot_total / m_emitted;
     with_ambient(snap.display);
@@ -375,8 +384,8 @@ const float* ShootingRun::row_of(std::size_t shooter) {
 // dH_j = F_ji dB_i. With a matrix, its column i (shooting then solves exactly the system the
 // gathering solvers solve); otherwise F_ij A_i / A_j from row i.
 void ShootingRun::shoot(std::size_t shooter, const float* row, const Rgb& unshot_signed) {
-    const double ai = (*m_shooters)[shooter].area;
-    const Rgb mean_unshot = m_gathered[shooter] * (1.0 / ai);
+    const double ai = m_open ? m_patch_area[shooter] : (*m_shooters)[shooter].area;
+    const Rgb mean_unshot = ai > 0.0 ? m_gathered[shooter] * (1.0 / ai) : Rgb();
     Rgb shot = mean_unshot;
     if (m_options.overshoot) {
         // Over-shooting (Feda and Purgathofer 1991): also shoot the radiosity the patch will
@@ -388,6 +397,10 @@ void ShootingRun::shoot(std::size_t shooter, const float* row, const Rgb& unshot
     // exactly A_i * shot leaves, whatever the spread among the elements.
     for (std::size_t k = m_first_child[shooter]; k < m_first_child[shooter + 1]; ++k)
         m_res.unshot[m_child[k]] = mean_unshot - shot;
+    if (m_open) {
+        shoot_open(shooter, row, shot);
+        return;
+    }
     Rgb arrived;
     for (std::size_t j = 0; j < m_n; ++j) {
         if (row && row[j] == 0.0f) continue;
@@ -405,6 +418,43 @@ void ShootingRun::shoot(std::size_t shooter, const float* row, const Rgb& unshot
     m_res.escaped_power += shot * ai - arrived;
     m_res.shot_power += shot * ai;
     m_shot_abs += (std::abs(shot.r) + std::abs(shot.g) + std::abs(shot.b)) * ai;
+}
+
+// Shooting from and to open parts (open_parts.h): patch i's open part, area a_i A_i, sends
+// A'_i dB_i along the row F'_ij = k_i F_ij, where F_ij is the whole patches' row (what its
+// open points' rays reach) and k_i its scale (OpenPart::shot_scale over a_i); j's open part
+// receives it over a_j A_j. What the row leaves over goes to black back sides (absorbed) and
+// out through openings (escaped) in the shares the open part's rays saw.
+void ShootingRun::shoot_open(std::size_t i, const float* row, const Rgb& shot) {
+    const OpenPart& open = (*m_open)[i];
+    const double area_i = m_patches[i].area;
+    double power_scale = 1.0;  // k_i a_i
+    if (row) {
+        double row_sum = 0.0;
+        for (std::size_t j = 0; j < m_n; ++j) row_sum += double(row[j]);
+        power_scale = open.shot_scale(row_sum) * area_i;
+    }
+    Rgb arrived;
+    for (std::size_t j = 0; j < m_n; ++j) {
+        // Power arriving at j per unit shot radiosity: F_ij A_i k_i a_i from the row, or the
+        // open parts' matrix (open_part_matrix) times j's open area.
+        const double landing = row ? double(row[j]) * power_scale : double((*m_matrix)(j, i)) * m_patch_area[j];
+        if (landing == 0.0) continue;
+        const Rgb arriving = shot * landing;
+        const Rgb dh = arriving * (1.0 / m_patch_area[j]);
+        const Rgb reflected = m_patch_rho[j] * dh;
+        m_res.irradiance[j] += dh;
+        m_res.radiosity[j] += reflected;
+        m_res.unshot[j] += reflected;
+        m_res.absorbed_power += arriving - m_patch_rho[j] * arriving;
+        arrived += arriving;
+    }
+    const Rgb left = shot * m_patch_area[i] - arrived;
+    m_res.absorbed_power += left * open.back_share;
+    m_res.back_absorbed_power += left * open.back_share;
+    m_res.escaped_power += left * (1.0 - open.back_share);
+    m_res.shot_power += shot * m_patch_area[i];
+    m_shot_abs += (std::abs(shot.r) + std::abs(shot.g) + std::abs(shot.b)) * m_patch_area[i];
 }
 
 SolveResult ShootingRun::run() {
@@ -428,7 +478,7 @@ SolveResult ShootingRun::run() {
     }
     if (m_res.log.empty() || m_res.log.back().step != m_res.steps) log();
     m_res.residual = m_res.log.back().residual;
-    for (std::size_t i = 0; i < m_n; ++i) m_res.unshot_power += m_res.unshot[i] * m_patches[i].area;
+    for (std::size_t i = 0; i < m_n; ++i) m_res.unshot_power += m_res.unshot[i] * m_patch_area[i];
     if (m_options.ambient) with_ambient(m_res.display);
     m_res.seconds = seconds();
     return std::move(m_res);

@@ -91,7 +91,8 @@ struct SolveResult {
     double residual = -1.0;  // last relative residual, when computed
     SolveStatus status;      // how the solve ended
     Rgb emitted_power, absorbed_power, escaped_power, unshot_power;
-    Rgb shot_power;  // shooting: all power shot; -escaped / shot is the mean row surplus of a closed scene
+    Rgb shot_power;           // shooting: all power shot; -escaped / shot is the mean row surplus of a closed scene
+    Rgb back_absorbed_power;  // of absorbed_power: what black back sides took (open parts, open_parts.h)
     std::vector<ConvergenceRecord> log;
     std::vector<Rgb> display;  // shooting: B plus the ambient term (Cohen et al. 1988), for display
     // Per mesh vertex, by final gather (solver/gather); empty: the exported point data is the

@@ -11,21 +11,27 @@
 #include "mesh/patch.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
+#include "solver/form_factors/open_parts.h"
 #include "solver/linear/solve_result.h"
 
 namespace bounce {
 
 /// Settings shared by every solver; each reads what applies to it.
 struct SolverOptions {
-    double tolerance = 1e-3;                             // shooting: estimated error left; gathering: relative residual
-    std::size_t max_iterations = 0;                      // shots or sweeps; 0: no shot limit, 10000 sweeps
-    double max_seconds = 0.0;                            // 0: no time limit
-    double sor = 1.0;                                    // over-relaxation factor for Jacobi and Gauss-Seidel (0, 2)
-    bool ambient = true;                                 // shooting: keep B + ambient for display
-    bool overshoot = false;                              // shooting: over-shoot by rho_i times the ambient term
-    std::size_t cache_mb = 1024;                         // shooting: form-factor rows kept for re-shooting patches
-    std::size_t max_matrix_mb = 2048;                    // direct: refuse larger dense systems
-    const std::vector<Rgb>* reference = nullptr;         // for the error columns of the log
+    double tolerance = 1e-3;                      // shooting: estimated error left; gathering: relative residual
+    std::size_t max_iterations = 0;               // shots or sweeps; 0: no shot limit, 10000 sweeps
+    double max_seconds = 0.0;                     // 0: no time limit
+    double sor = 1.0;                             // over-relaxation factor for Jacobi and Gauss-Seidel (0, 2)
+    bool ambient = true;                          // shooting: keep B + ambient for display
+    bool overshoot = false;                       // shooting: over-shoot by rho_i times the ambient term
+    std::size_t cache_mb = 1024;                  // shooting: form-factor rows kept for re-shooting patches
+    std::size_t max_matrix_mb = 2048;             // direct: refuse larger dense systems
+    const std::vector<Rgb>* reference = nullptr;  // for the error columns of the log
+    /// Per patch, its part open to the scene (open_parts.h): the solve works on open parts,
+    /// so buried parts neither emit nor receive and closed rows send all their light. Shooting
+    /// (without elements) takes the whole patches and their rows (or open_part_matrix); the
+    /// matrix solvers take open_part_patches and open_part_matrix. Null: whole patches.
+    const std::vector<OpenPart>* open_parts = nullptr;
     std::function<void(const SolveProgress&)> progress;  // after every shot or sweep
     const std::atomic<bool>* cancel = nullptr;  // set (e.g. by SIGINT): stop after this step, status "interrupted"
     std::size_t snapshot_every = 0;  // call `snapshot` at step 0 and every this many shots or sweeps (0: never)

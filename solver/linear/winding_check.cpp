@@ -31,7 +31,7 @@ WindingReport check_winding(const std::vector<Patch>& patches, const SolveResult
     WindingReport r;
     const double emitted = result.emitted_power.sum();
     if (!(emitted > 0) || patches.empty()) return r;
-    r.escaped_fraction = result.escaped_power.sum() / emitted;
+    r.escaped_fraction = (result.escaped_power + result.back_absorbed_power).sum() / emitted;
 
     // Emitting surfaces by power, and a few evenly spaced patches of each.
     std::map<int, std::vector<std::size_t>> by_surface;

@@ -14,7 +14,7 @@ namespace bounce {
 /// wound and with every face turned (unoccluded point-to-polygon form factors from a few
 /// patches of each emitting surface), and says which faces are the likely culprits.
 struct WindingReport {
-    double escaped_fraction = 0.0;   // escaped / emitted power of the solve, all channels
+    double escaped_fraction = 0.0;   // escaped or taken by back sides / emitted power, all channels
     double reach_as_wound = 0.0;     // share of the emitters' power whose first bounce lands on a patch
     double reach_turned = 0.0;       // the same with every face turned round
     std::vector<int> dark_emitters;  // emitting surfaces whose light reaches no patch as wound

@@ -73,16 +73,19 @@ struct SolveRequest {
 
     // The solver.
     SolverKind solver = SolverKind::shooting;
-    bool adaptive = false;                      // hierarchical, power epsilon kAdaptivePowerEpsilon unless given
-    std::optional<double> tolerance;            // 1e-3 (hierarchical 1e-6)
-    std::size_t max_iterations = 0;             // shots or sweeps; 0: the solver's default
-    std::optional<double> max_seconds;          // patch solvers: 0, no limit
-    std::optional<double> sor;                  // jacobi and gauss-seidel: 1
-    std::optional<bool> overshoot;              // shooting: off
-    std::optional<std::size_t> cache_mb;        // shooting: SolverOptions' 1024 MB
-    std::optional<std::size_t> series;          // a snapshot every N shots or sweeps (SolveHooks::snapshot)
-    std::size_t max_matrix_mb = 2048;           // refuse a larger form-factor matrix
-    bool residuals = false;                     // shooting: build the matrix too, to log residuals
+    bool adaptive = false;                // hierarchical, power epsilon kAdaptivePowerEpsilon unless given
+    std::optional<double> tolerance;      // 1e-3 (hierarchical 1e-6)
+    std::size_t max_iterations = 0;       // shots or sweeps; 0: the solver's default
+    std::optional<double> max_seconds;    // patch solvers: 0, no limit
+    std::optional<double> sor;            // jacobi and gauss-seidel: 1
+    std::optional<bool> overshoot;        // shooting: off
+    std::optional<std::size_t> cache_mb;  // shooting: SolverOptions' 1024 MB
+    std::optional<std::size_t> series;    // a snapshot every N shots or sweeps (SolveHooks::snapshot)
+    std::size_t max_matrix_mb = 2048;     // refuse a larger form-factor matrix
+    bool residuals = false;               // shooting: build the matrix too, to log residuals
+    /// Patch solvers with visibility: solve on the patches' open parts (open_parts.h); false:
+    /// whole patches, with rows as the form factors give them.
+    bool open_parts = true;
     std::optional<std::vector<Rgb>> reference;  // B per patch: the log's error columns
     std::vector<std::string> retired;           // keys of retired options that were given (refused)
 

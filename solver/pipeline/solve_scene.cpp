@@ -8,6 +8,7 @@
 
 #include "mesh/specular_occluders.h"
 #include "solver/form_factors/form_factor_matrix.h"
+#include "solver/form_factors/open_parts.h"
 #include "solver/form_factors/raycast_form_factor.h"
 #include "solver/gather/hierarchical_point_values.h"
 #include "solver/gather/point_values.h"
@@ -49,7 +50,7 @@ std::optional<std::string> winding_warning(const Scene& scene, const std::vector
     auto name = [&](int s) { return describe(scene.surfaces[s].where, scene.surfaces[s].object); };
     std::ostringstream msg;
     msg.precision(3);
-    msg << "orientation: " << 100.0 * w.escaped_fraction << "% of the emitted power escapes";
+    msg << "orientation: " << 100.0 * w.escaped_fraction << "% of the emitted power escapes or meets back sides";
     for (const int s : w.dark_emitters) msg << "; the emitter " << name(s) << " reaches no surface";
     msg << "; with every face turned round, " << 100.0 * w.reach_turned << "% of the emitters' first bounce would land"
         << " on the scene instead of " << 100.0 * w.reach_as_wound
@@ -200,7 +201,7 @@ std::string patch_settings(const SolveRequest& r, const SolverOptions& so, std::
       << " rays=" << with_default_rays(r.form_factors, kPatchPairRays).visibility_rays
       << " receiver_samples=" << r.form_factors.receiver_samples
       << " hemicube_res=" << r.form_factors.hemicube_resolution << " seed=" << r.form_factors.seed
-      << " tolerance=" << so.tolerance << (r.flip ? " flip=1" : "");
+      << " tolerance=" << so.tolerance << (so.open_parts ? " open_parts=1" : "") << (r.flip ? " flip=1" : "");
     return s.str();
 }
 
@@ -232,14 +233,23 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
                                    r.method == FormFactorMethod::analytic ? nullptr : visibility.get(), r.form_factors)
                              : make_form_factor_estimator(method, P, visibility.get(), r.form_factors);
     SolvedScene out;
+    // Open parts need rays, so a method with visibility; elements shoot from whole patches.
+    std::optional<std::vector<OpenPart>> open;
+    if (r.open_parts && !elements && r.method != FormFactorMethod::analytic && !cancelled(hooks))
+        open = open_parts(P, *visibility, 3, 16, 1, hooks.cancel);
     std::optional<FormFactorMatrix> matrix;
     if (!shooting || r.residuals) {
         matrix = FormFactorMatrix::build(*ff, P.size(), r.max_matrix_mb << 20, hooks.rows, hooks.cancel);
         stage_end(hooks);
         check_rows(P, *matrix, out.warnings);
         out.form_factor_seconds = matrix->seconds();
+        if (open) matrix = open_part_matrix(*matrix, *open);
     }
+    // The matrix solvers see the open parts' areas; shooting reads whole patches' rows and
+    // scales them itself.
+    const std::vector<Patch> solved_patches = open && !shooting ? open_part_patches(P, *open) : std::vector<Patch>{};
     SolverOptions so = solver_options(r, hooks);
+    if (open) so.open_parts = &*open;
     out.patches = elements ? shooters->size() : mesh->size();
     out.settings = patch_settings(r, so, out.patches, *mesh);
     if (r.series.value_or(0) > 0 && hooks.snapshot) {
@@ -251,9 +261,12 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
             hooks.snapshot(*mesh, out.settings, snap);
         };
     }
-    const auto solver = elements ? std::make_unique<ShootingSolver>(
-                                       P, *ff, so, nullptr, ElementHierarchy{&shooters->patches(), &mesh->parents()})
-                                 : make_solver(to_string(r.solver), {P, ff.get(), matrix ? &*matrix : nullptr}, so);
+    const auto solver =
+        elements
+            ? std::make_unique<ShootingSolver>(P, *ff, so, nullptr,
+                                               ElementHierarchy{&shooters->patches(), &mesh->parents()})
+            : make_solver(to_string(r.solver),
+                          {solved_patches.empty() ? P : solved_patches, ff.get(), matrix ? &*matrix : nullptr}, so);
     out.result = solver->solve();
     stage_end(hooks);
     out.result.form_factors = method;

@@ -47,7 +47,10 @@ public:
             if (!v || !t)
                 throw std::runtime_error("embree: out of memory for " + std::to_string(triangles) + " triangles");
             unsigned base = 0;
-            for (const auto& p : patches) {
+            m_patch_of.reserve(triangles);
+            for (std::size_t i = 0; i < patches.size(); ++i) {
+                const Patch& p = patches[i];
+                m_patch_of.insert(m_patch_of.end(), std::size_t(p.vertex_count - 2), int(i));
                 for (int k = 0; k < p.vertex_count; ++k) {
                     const glm::dvec3 x = p.vertices[k] - m_centre;
                     *v++ = float(x.x);
@@ -61,6 +64,7 @@ public:
                 }
                 base += unsigned(p.vertex_count);
             }
+            m_patch_of.insert(m_patch_of.end(), occluders.size(), kOccluder);
             for (const auto& tri : occluders) {
                 for (const auto& corner : tri) {
                     const glm::dvec3 x = corner - m_centre;
@@ -118,6 +122,28 @@ public:
         for (; base + 16 <= segments.size(); base += 16) trace_packet<RTCRay16, 16>(segments, base, blocked, context);
         for (; base < segments.size(); base += 4) trace_packet<RTCRay4, 4>(segments, base, blocked, context);
     }
+    int first_patch(const glm::dvec3& a, const glm::dvec3& b) const override {
+        const double t0 = trim(a, b);
+        if (t0 >= 0.5) return kNothing;
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        RTCRayHit rh{};
+        const glm::dvec3 o = a - m_centre, d = b - a;
+        rh.ray.org_x = float(o.x);
+        rh.ray.org_y = float(o.y);
+        rh.ray.org_z = float(o.z);
+        rh.ray.dir_x = float(d.x);
+        rh.ray.dir_y = float(d.y);
+        rh.ray.dir_z = float(d.z);
+        rh.ray.tnear = float(t0);
+        rh.ray.tfar = float(1.0 - t0);
+        rh.ray.mask = 0xFFFFFFFFu;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(m_scene, &context, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return kNothing;
+        return m_patch_of[rh.hit.primID];
+    }
     std::string name() const override { return "embree"; }
 
 private:
@@ -159,6 +185,7 @@ private:
     }
 
     glm::dvec3 m_centre{0.0};
+    std::vector<int> m_patch_of;  // per triangle: its patch, or kOccluder
     RTCDevice m_device = nullptr;
     RTCScene m_scene = nullptr;
 };

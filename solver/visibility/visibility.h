@@ -42,6 +42,12 @@ public:
         for (const std::uint8_t b : blocked) open += b ? 0 : 1;
         return double(open) / double(segments.size());
     }
+    /// The first thing the open segment a-b meets, trimmed as occluded() trims it: the index of
+    /// the patch (whichever side it meets), kNothing, or kOccluder for a mirror or glass
+    /// triangle.
+    virtual int first_patch(const glm::dvec3& a, const glm::dvec3& b) const = 0;
+    static constexpr int kNothing = -1;
+    static constexpr int kOccluder = -2;
     virtual std::string name() const = 0;
     /// Distance to lift ray endpoints off their surfaces: tiny against the scene (1e-6 of its
     /// diagonal), yet far above the rounding error of the coordinates.

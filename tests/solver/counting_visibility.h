@@ -26,6 +26,10 @@ public:
         segments += s.size();
         m_inner->occluded(s, blocked);
     }
+    int first_patch(const glm::dvec3& a, const glm::dvec3& b) const override {
+        ++segments;
+        return m_inner->first_patch(a, b);
+    }
     std::string name() const override { return "counting " + m_inner->name(); }
     mutable std::atomic<std::size_t> segments{0};
 
