@@ -417,6 +417,37 @@ class ParaViewScript(unittest.TestCase):
         self.assertLess(w[1], w[0])  # the back wall is the light's warm white
         self.assertLess(w[0] - w[1], r[0] - r[1])
 
+    def test_opened_without_the_script_it_colours_by_the_point_data(self):
+        # Issue 35: opened plainly, ParaView coloured by the cells' luminance over the light's
+        # range, one blue. The point display_rgb is the active scalars: ParaView colours by it.
+        folder = os.path.join(TMP, "plain")
+        os.makedirs(folder, exist_ok=True)
+        vtu = os.path.join(folder, "box.vtu")
+        self.assertEqual(bounce("solve", "--max-area", "8000", "-q", "-o", vtu).returncode, 0)
+        scalars = vtk_read(vtu).GetPointData().GetScalars()
+        self.assertIsNotNone(scalars)
+        self.assertEqual(scalars.GetName(), "display_rgb")
+        pvbatch = os.environ.get("BOUNCE_PVBATCH")
+        if not pvbatch:
+            self.skipTest("BOUNCE_PVBATCH unset: ParaView not run")
+        script, shot = os.path.join(folder, "plain.py"), os.path.join(folder, "plain.png")
+        with open(script, "w") as f:
+            f.write("import sys\nfrom paraview.simple import *\n"
+                    "view = GetActiveViewOrCreate('RenderView')\nview.ViewSize = [400, 400]\n"
+                    "d = Show(OpenDataFile(sys.argv[1]), view)\nprint('colour by', list(d.ColorArrayName))\n"
+                    "view.ResetCamera()\nRender(view)\nSaveScreenshot(sys.argv[2], view)\n")
+        for attempt in range(2):
+            pv = subprocess.run([pvbatch, script, vtu, shot], capture_output=True, text=True, timeout=600)
+            if pv.returncode == 0 and os.path.exists(shot):
+                break
+        self.assertEqual(pv.returncode, 0, pv.stderr[-2000:])
+        self.assertIn("colour by ['POINTS', 'display_rgb']", pv.stdout)
+        # The back wall (seen from behind, ParaView's default view) shows the light's spread,
+        # not one colour: the middle of the picture spans more than a fifth of the colour range.
+        middle = png(shot)[100:300, 100:300]
+        print("plain ParaView: middle's range per channel", np.ptp(middle.reshape(-1, 3), axis=0).round(3))
+        self.assertGreater(np.ptp(middle.reshape(-1, 3), axis=0).max(), 0.2)
+
 
 class AutoCamera(unittest.TestCase):
     """The default camera shows a scene: at least three colour clusters of 2% or more, none above 60%."""
