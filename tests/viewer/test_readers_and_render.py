@@ -223,6 +223,7 @@ class Pictures(unittest.TestCase):
         out = os.path.join(TMP, name)
         r = bounce("render", self.vtu, "-o", out, *args)
         self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(r.stdout, f"wrote {out}\n")  # issue 35: render names what it wrote
         return png(out)
 
     def test_size_and_not_blank(self):
