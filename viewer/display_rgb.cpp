@@ -80,7 +80,12 @@ void add_display_rgb(vtkUnstructuredGrid* g, double ev) {
         point_rgb = colours(tm, rgb_values(pb));
     if (kind) paint_specular(g, kind, cell_rgb, point_rgb);
     cd->AddArray(cell_rgb);  // replaces an array of the same name
-    if (point_rgb) g->GetPointData()->AddArray(point_rgb);
+    if (point_rgb) {
+        g->GetPointData()->AddArray(point_rgb);
+        // What ParaView colours by when the file is opened without the script: the smooth
+        // picture's brightness, not the cells' luminance, whose range the light sets.
+        g->GetPointData()->SetActiveScalars("display_rgb");
+    }
 }
 
 }  // namespace bounce

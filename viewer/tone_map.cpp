@@ -13,13 +13,18 @@ double srgb_encode(double x) {
 
 ToneMap ToneMap::automatic(const std::vector<Rgb>& radiosity, const std::vector<Rgb>& emission,
                            const std::vector<double>& area, double ev) {
-    double sum = 0.0, weight = 0.0;
-    for (std::size_t i = 0; i < radiosity.size(); ++i) {
-        if (emission[i].max() > 0) continue;
-        sum += radiosity[i].luminance() * area[i];
-        weight += area[i];
-    }
-    const double mean = weight > 0 ? sum / weight : 0.0;
+    auto mean_luminance = [&](bool emitting_too) {
+        double sum = 0.0, weight = 0.0;
+        for (std::size_t i = 0; i < radiosity.size(); ++i) {
+            if (!emitting_too && emission[i].max() > 0) continue;
+            sum += radiosity[i].luminance() * area[i];
+            weight += area[i];
+        }
+        return weight > 0 ? sum / weight : 0.0;
+    };
+    // A scene whose every patch emits (a furnace) has no surface to expose for but the lights.
+    double mean = mean_luminance(false);
+    if (!(mean > 0)) mean = mean_luminance(true);
     return {std::exp2(ev) * 0.5 / (mean > 0 ? mean : 1.0)};
 }
 

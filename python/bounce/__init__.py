@@ -107,9 +107,11 @@ solve.__doc__ += "\n" + (_solve.__doc__ or "")
 
 
 def _to_meshio(self):
-    """The solution as a meshio.Mesh: one cell per patch (triangle and quad blocks in patch
-    order), the cell data radiosity, irradiance, emission, reflectance, area and surface, and the
-    point data radiosity (gathered or averaged, as in the .vtu)."""
+    """The solution as a meshio.Mesh: one cell per patch (or display cell), in one block per
+    cell type (triangles, quads, then polygons by their number of corners), with the cell data
+    radiosity, irradiance, emission, reflectance, area, surface and patch (each cell's row in
+    the solution's arrays, which keep the patch order), and the point data radiosity
+    (gathered or averaged, as in the .vtu)."""
     import meshio
     import numpy as np
 
@@ -124,15 +126,15 @@ def _to_meshio(self):
         "area": p.area,
         "surface": p.surface,
     }
-    # meshio keeps cells in blocks of one type: consecutive runs keep the patch order.
-    starts = np.flatnonzero(np.diff(counts, prepend=-1) != 0)
-    ends = np.append(starts[1:], len(counts))
-    cells, cell_data = [], {k: [] for k in per_cell}
-    for a, b in zip(starts, ends):
-        k = int(counts[a])
-        cells.append(({3: "triangle", 4: "quad"}.get(k, "polygon"), faces[a:b, :k]))
+    # meshio keeps cells in blocks of one type and size: one block each, not one per run of
+    # consecutive patches (the Cornell box alternated triangles and quads in 45 blocks).
+    cells, cell_data = [], {k: [] for k in [*per_cell, "patch"]}
+    for k in np.unique(counts):
+        rows = np.flatnonzero(counts == k)
+        cells.append(({3: "triangle", 4: "quad"}.get(int(k), "polygon"), faces[rows, :k]))
         for name, values in per_cell.items():
-            cell_data[name].append(np.asarray(values[a:b]))
+            cell_data[name].append(np.asarray(values)[rows])
+        cell_data["patch"].append(rows)
     return meshio.Mesh(np.asarray(p.vertices), cells,
                        point_data={"radiosity": np.asarray(self.point_radiosity)},
                        cell_data=cell_data)

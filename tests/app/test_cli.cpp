@@ -979,7 +979,7 @@ TEST(Cli, PrintedSecondsAreTheWallTimeOfTheSolveAndGather) {
     }
 }
 
-// Issue 35: compare --meshes shows progress only on a terminal, and on Ctrl-C writes the rows
+// Issue 35: compare --meshes shows progress on a terminal (only there), and on Ctrl-C writes the rows
 // of the runs done (a run cut short keeps none) and exits 130.
 TEST(Cli, CompareMeshesWritesTheRunsDoneOnInterrupt) {
     test::TempDir dir;
@@ -988,6 +988,12 @@ TEST(Cli, CompareMeshesWritesTheRunsDoneOnInterrupt) {
         kExe + " compare --meshes --reference-level 0 --methods patches --out " + dir.path().string();
     const auto probes = test::run(base + " -q --patch-counts 50");
     ASSERT_EQ(probes.exit_code, 0) << probes.err;
+    // On a terminal (script(1) gives the run one), a progress line names each run as it starts.
+    const auto shown = test::run("script -qefc '" + base + " --patch-counts 50,100' /dev/null");
+    ASSERT_EQ(shown.exit_code, 0) << shown.out << shown.err;
+    EXPECT_NE(shown.out.find("\rcompare --meshes: 0 / 2 runs done, "), std::string::npos) << shown.out;
+    EXPECT_NE(shown.out.find("\rcompare --meshes: 1 / 2 runs done, "), std::string::npos) << shown.out;
+    EXPECT_NE(shown.out.find("now patches --patches 100"), std::string::npos) << shown.out;
     // 100 patches (well under a second), then 30000 (minutes); the signal comes at 8 s.
     const auto r =
         test::run("sh -c '" + base + " --patch-counts 100,30000 & pid=$!; sleep 8; kill -INT $pid; wait $pid'");

@@ -117,8 +117,25 @@ def test_residuals_and_reference_columns(scene):
 def test_to_meshio_and_render(tmp_path, scene):
     sol = bounce.solve(scene, tolerance=1e-3, gather="none")
     m = sol.to_meshio()
-    assert_same(cell_array(m, "radiosity"), sol.radiosity, "meshio radiosity")
+    # One block per cell type (the box's triangles and quads alternated in 45 blocks), and
+    # the cell array patch leads back to the solution's rows.
+    types = [b.type for b in m.cells]
+    assert types == ["triangle", "quad"], types
+    patch = cell_array(m, "patch")
+    assert sorted(patch) == list(range(len(sol.radiosity)))
+    order = np.argsort(patch)
+    assert_same(cell_array(m, "radiosity")[order], sol.radiosity, "meshio radiosity")
     assert_same(m.points, scene.patches.vertices, "meshio points")
+    corners = np.concatenate([np.pad(b.data, ((0, 0), (0, 4 - b.data.shape[1])), constant_values=-1)
+                              for b in m.cells])[order]
+    assert np.array_equal(corners, sol.patches.faces[:, :4])
+    # With display cells (polygons of several sizes): one block per size, every cell once.
+    shown = bounce.solve(scene, tolerance=1e-3).to_meshio()
+    sizes = [b.data.shape[1] for b in shown.cells]
+    assert len(sizes) == len(set(sizes)), sizes
+    assert sum(len(b.data) for b in shown.cells) == len(cell_array(shown, "patch"))
+    shown.write(tmp_path / "meshio.vtu")
+    assert len(meshio.read(tmp_path / "meshio.vtu").points) == len(shown.points)
     out = tmp_path / "cornell.png"
     sol.render(out, size=(64, 48))
     import matplotlib.image

@@ -223,6 +223,7 @@ class Pictures(unittest.TestCase):
         out = os.path.join(TMP, name)
         r = bounce("render", self.vtu, "-o", out, *args)
         self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(r.stdout, f"wrote {out}\n")  # issue 35: render names what it wrote
         return png(out)
 
     def test_size_and_not_blank(self):
@@ -384,13 +385,69 @@ class ParaViewScript(unittest.TestCase):
         pvbatch = os.environ.get("BOUNCE_PVBATCH")
         if not pvbatch:
             self.skipTest("BOUNCE_PVBATCH unset: ParaView not run")
-        shot, ours = os.path.join(folder, "shot.png"), os.path.join(folder, "render.png")
-        subprocess.run([pvbatch, script, "--screenshot", shot], capture_output=True, timeout=600, check=True)
+        shot, ours, flat = (os.path.join(folder, n) for n in ("shot.png", "render.png", "flat.png"))
+        for attempt in range(2):  # a private X server may fail to start once on a busy machine
+            pv = subprocess.run([pvbatch, script, "--screenshot", shot], capture_output=True, text=True, timeout=600)
+            if pv.returncode == 0 and os.path.exists(shot):
+                break
+        self.assertEqual(pv.returncode, 0, pv.stderr[-2000:])
         self.assertEqual(bounce("render", vtu, "-o", ours).returncode, 0)
-        a, b = png(shot), png(ours)
+        self.assertEqual(bounce("render", vtu, "-o", flat, "--flat").returncode, 0)
+        a, b, f = png(shot), png(ours), png(flat)
         self.assertEqual(a.shape, b.shape)
-        self.assertLess(np.abs(a - b).mean(), 0.01)
+        diff, to_flat = np.abs(a - b).mean(), np.abs(a - f).mean()
+        print(f"ParaView against render: {diff:.4f}, against render --flat: {to_flat:.4f}")
+        self.assertLess(diff, 0.01)
         self.assertLess((np.abs(a - b).max(axis=2) > 0.05).mean(), 0.05)
+        # The point data, not the patch values: the shot is nearer the smooth picture.
+        self.assertLess(2 * diff, to_flat)
+        # The three walls in ParaView: red, green and the warm white back wall, each the colour
+        # render --smooth gives it.
+        def wall(img, p):
+            c, r = project(p, 800)
+            return img[r - 3:r + 4, c - 3:c + 4].reshape(-1, 3).mean(axis=0)
+        red, green, back = ((555.0, 300.0, 300.0), (0.5, 300.0, 300.0), (150.0, 450.0, 559.2))
+        for p in (red, green, back):
+            np.testing.assert_allclose(wall(a, p), wall(b, p), atol=0.02, err_msg=str(p))
+        r, g, w = wall(a, red), wall(a, green), wall(a, back)
+        print("ParaView's walls: red", r.round(3), "green", g.round(3), "back", w.round(3))
+        self.assertGreater(r[0], 2 * r[1])
+        self.assertGreater(g[1], 1.2 * g[0])
+        self.assertGreater(g[1], 2 * g[2])
+        self.assertGreater(w.min(), 0.4)
+        self.assertLess(w[1], w[0])  # the back wall is the light's warm white
+        self.assertLess(w[0] - w[1], r[0] - r[1])
+
+    def test_opened_without_the_script_it_colours_by_the_point_data(self):
+        # Issue 35: opened plainly, ParaView coloured by the cells' luminance over the light's
+        # range, one blue. The point display_rgb is the active scalars: ParaView colours by it.
+        folder = os.path.join(TMP, "plain")
+        os.makedirs(folder, exist_ok=True)
+        vtu = os.path.join(folder, "box.vtu")
+        self.assertEqual(bounce("solve", "--max-area", "8000", "-q", "-o", vtu).returncode, 0)
+        scalars = vtk_read(vtu).GetPointData().GetScalars()
+        self.assertIsNotNone(scalars)
+        self.assertEqual(scalars.GetName(), "display_rgb")
+        pvbatch = os.environ.get("BOUNCE_PVBATCH")
+        if not pvbatch:
+            self.skipTest("BOUNCE_PVBATCH unset: ParaView not run")
+        script, shot = os.path.join(folder, "plain.py"), os.path.join(folder, "plain.png")
+        with open(script, "w") as f:
+            f.write("import sys\nfrom paraview.simple import *\n"
+                    "view = GetActiveViewOrCreate('RenderView')\nview.ViewSize = [400, 400]\n"
+                    "d = Show(OpenDataFile(sys.argv[1]), view)\nprint('colour by', list(d.ColorArrayName))\n"
+                    "view.ResetCamera()\nRender(view)\nSaveScreenshot(sys.argv[2], view)\n")
+        for attempt in range(2):
+            pv = subprocess.run([pvbatch, script, vtu, shot], capture_output=True, text=True, timeout=600)
+            if pv.returncode == 0 and os.path.exists(shot):
+                break
+        self.assertEqual(pv.returncode, 0, pv.stderr[-2000:])
+        self.assertIn("colour by ['POINTS', 'display_rgb']", pv.stdout)
+        # The back wall (seen from behind, ParaView's default view) shows the light's spread,
+        # not one colour: the middle of the picture spans more than a fifth of the colour range.
+        middle = png(shot)[100:300, 100:300]
+        print("plain ParaView: middle's range per channel", np.ptp(middle.reshape(-1, 3), axis=0).round(3))
+        self.assertGreater(np.ptp(middle.reshape(-1, 3), axis=0).max(), 0.2)
 
 
 class AutoCamera(unittest.TestCase):
@@ -416,8 +473,15 @@ class AutoCamera(unittest.TestCase):
         # furnace_box is exempt from the three-cluster rule: every face emits and reflects alike,
         # so B = E / (1 - rho) everywhere and a true unshaded picture is one colour. What can be
         # checked is that the camera stands inside: the walls fill the frame, no background.
-        shares = colour_clusters(self.picture(os.path.join(ROOT, "examples", "scenes", "furnace_box.json")))
+        img = self.picture(os.path.join(ROOT, "examples", "scenes", "furnace_box.json"))
+        shares = colour_clusters(img)
         self.assertGreater(shares[0], 0.99)
+        # Every patch emits, so the exposure takes the mean of them all to mid grey (it had no
+        # non-emitting patch to go by and drew the walls white, 254 of 255).
+        grey = float(np.median(img))
+        print("furnace grey", round(grey, 3))
+        self.assertGreater(grey, 0.5)
+        self.assertLess(grey, 0.8)
 
     def test_fov_and_camera_are_taken(self):
         scene = os.path.join(ROOT, "examples", "scenes", "sheared_room.json")
