@@ -45,8 +45,12 @@ struct OpenPart {
 /// One OpenPart per patch. `points` per side (points^2 on each patch, (2 points)^2 on a patch
 /// whose points disagree) and `rays` per point; reproducible from `seed`. When `cancel`
 /// becomes true, throws Interrupted.
-std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibility& visibility, int points = 3,
+std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibility& visibility, int points = 4,
                                  int rays = 16, std::uint64_t seed = 1, const std::atomic<bool>* cancel = nullptr);
+
+/// Values of the open parts (radiosity, irradiance) as means over the whole patches: a_i times
+/// the open part's (a buried patch keeps its own). Empty parts of `values` are left alone.
+void to_whole_patch_means(std::vector<Rgb>& values, const std::vector<OpenPart>& open);
 
 /// The patches with the areas that receive in the solve (OpenPart::receiving_share), for the
 /// matrix solvers and the energy account.

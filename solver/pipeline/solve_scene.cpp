@@ -236,7 +236,7 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
     // Open parts need rays, so a method with visibility; elements shoot from whole patches.
     std::optional<std::vector<OpenPart>> open;
     if (r.open_parts && !elements && r.method != FormFactorMethod::analytic && !cancelled(hooks))
-        open = open_parts(P, *visibility, 3, 16, 1, hooks.cancel);
+        open = open_parts(P, *visibility, 4, 16, 1, hooks.cancel);
     std::optional<FormFactorMatrix> matrix;
     if (!shooting || r.residuals) {
         matrix = FormFactorMatrix::build(*ff, P.size(), r.max_matrix_mb << 20, hooks.rows, hooks.cancel);
@@ -268,6 +268,9 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
             : make_solver(to_string(r.solver),
                           {solved_patches.empty() ? P : solved_patches, ff.get(), matrix ? &*matrix : nullptr}, so);
     out.result = solver->solve();
+    if (open)  // what the gather, the display cells and the written patch values take B to be
+        for (std::vector<Rgb>* values : {&out.result.radiosity, &out.result.irradiance, &out.result.display})
+            to_whole_patch_means(*values, *open);
     stage_end(hooks);
     out.result.form_factors = method;
     out.result.seconds += out.form_factor_seconds;
