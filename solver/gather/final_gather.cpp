@@ -137,6 +137,176 @@ std::vector<SourceCard> source_cards(const std::vector<Patch>& patches, std::spa
     return cards;
 }
 
+/// One source's share at a point that rays decide: its unoccluded factor and its rays.
+struct Term {
+    std::size_t patch, first, count;
+    double f0;
+    bool shaped;  // weights[first .. first + count) hold the samples' shape (GatherOptions::source_corners)
+};
+
+/// The lists a gather thread reuses from point to point.
+struct PointScratch {
+    std::vector<Term> terms;
+    std::vector<Visibility::Segment> segments;  // every term's rays, [first, first + count) each
+    std::vector<double> kernel;                 // per ray: cos cos / r^4 (the area and pi come with f0)
+    std::vector<std::uint8_t> blocked;          // per ray, from the visibility
+    std::vector<Rgb> weights;                   // per ray of a shaped term
+    // Children still to take (gone down to from a listed source, GatherSources::descend),
+    // and whether a shaft test proved them unblocked.
+    std::vector<std::pair<std::size_t, bool>> pending;
+};
+
+/// What the gather reads at every point.
+struct GatherInputs {
+    const std::vector<Patch>& patches;
+    std::span<const Rgb> radiosity;
+    const GatherSources* sources;  // null: every patch is a source
+    const GatherOptions& options;
+    const PointFactor& factor;
+    const std::vector<SourceCard>& cards;
+    double lift;  // Visibility::offset: rays start and end this far off their surfaces
+    bool shapes;  // GatherOptions::source_corners given
+};
+
+/// Takes the sources of one point x, one at a time: a source's term and rays go into the
+/// scratch lists, its children onto `pending`, and a source proved unblocked straight into
+/// open_sum.
+struct SourceTaker {
+    const GatherInputs& in;
+    const GatherPoint& x;
+    glm::dvec3 from;  // x lifted off its surface: where its rays start
+    SplitMix64& rng;
+    PointScratch& scratch;
+    Rgb open_sum;  // the sources proved wholly visible: no rays
+
+    void operator()(std::size_t j, bool unblocked) {
+        const SourceCard& c = in.cards[j];
+        if (c.surface == x.surface || c.dark) return;
+        if (glm::dot(c.normal, x.position) - c.offset <= 0) return;  // x behind: it sends nothing x's way
+        const double distance = glm::length(c.centre - x.position);
+        if (distance < c.descend_within) {
+            for (int k = 0; k < 4; ++k)
+                scratch.pending.push_back({std::size_t(in.sources->first_child[j] + k), unblocked});
+            return;
+        }
+        const double f0 = in.factor(x.position, x.normal, j, c, distance);
+        if (!(f0 > 0)) return;
+        if (unblocked) {
+            open_sum += in.radiosity[j] * f0;
+            return;
+        }
+        const GatherOptions& options = in.options;
+        const Patch& p = in.patches[j];
+        // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
+        int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
+        if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
+        const int side = grid_side(want);
+        const bool shaped = in.shapes && distance < options.shape_within * c.radius;
+        Rgb mean;
+        if (shaped) {
+            scratch.weights.resize(scratch.segments.size());
+            for (int k = 0; k < p.vertex_count; ++k) mean += options.source_corners[4 * j + std::size_t(k)];
+            mean *= 1.0 / p.vertex_count;
+        }
+        scratch.terms.push_back({j, scratch.segments.size(), std::size_t(side * side), f0, shaped});
+        for (int a = 0; a < side; ++a)
+            for (int b = 0; b < side; ++b) {
+                // v drawn first: the order the call patch_point(p, u(), v()) evaluated them in.
+                const double v = (b + rng.uniform()) / side;
+                const double u = (a + rng.uniform()) / side;
+                const glm::dvec3 y = patch_point(p, u, v);
+                if (shaped) scratch.weights.push_back(corner_shape(p, &options.source_corners[4 * j], mean, u, v));
+                const glm::dvec3 d = y - x.position;
+                const double r2 = glm::dot(d, d);
+                scratch.kernel.push_back(std::max(0.0, glm::dot(x.normal, d)) * std::max(0.0, -glm::dot(p.normal, d)) /
+                                         (r2 * r2));
+                scratch.segments.push_back({from, y + in.lift * p.normal});
+            }
+    }
+};
+
+/// Takes every source of the point with source list `list`: the list, then (chained) the
+/// list's parent's, and so on up; every patch when there are no lists. A source's children
+/// are taken before the next listed source.
+void take_sources(const GatherInputs& in, std::size_t list, SourceTaker& take) {
+    const GatherSources* sources = in.sources;
+    const bool marked = sources && !sources->unblocked.empty();
+    const bool chained = sources && !sources->list_parent.empty();
+    std::vector<std::pair<std::size_t, bool>>& pending = take.scratch.pending;
+    std::int64_t at = std::int64_t(list);
+    std::size_t entry = sources ? sources->offsets[list] : 0;
+    std::size_t end = sources ? sources->offsets[list + 1] : in.patches.size();
+    for (;;) {
+        if (entry == end) {
+            if (!chained || (at = sources->list_parent[std::size_t(at)]) < 0) break;
+            entry = sources->offsets[std::size_t(at)];
+            end = sources->offsets[std::size_t(at) + 1];
+            continue;
+        }
+        const std::size_t e = entry++;
+        // The sources are scattered over the tree's nodes: fetch the next one's card while
+        // this one is taken (its first touch was the gather's largest stall).
+        if (sources && entry < end) {
+            const char* next = reinterpret_cast<const char*>(&in.cards[sources->patches[entry]]);
+            for (std::size_t line = 0; line < sizeof(SourceCard); line += 64) __builtin_prefetch(next + line);
+        }
+        take(sources ? sources->patches[e] : e, marked && sources->unblocked[e]);
+        while (!pending.empty()) {  // children last in, first out, each before its siblings
+            const auto [j, unblocked] = pending.back();
+            pending.pop_back();
+            take(j, unblocked);
+        }
+    }
+}
+
+/// `gathered` plus every term's radiosity times its factor and the kernel-weighted share of
+/// its rays that arrived (weighted by the samples' shape where the term is shaped).
+Rgb add_terms(Rgb gathered, const GatherInputs& in, const PointScratch& scratch) {
+    const std::vector<double>& kernel = scratch.kernel;
+    const std::vector<std::uint8_t>& blocked = scratch.blocked;
+    for (const Term& t : scratch.terms) {
+        double open = 0, total = 0;
+        std::size_t open_rays = 0;
+        for (std::size_t s = t.first; s < t.first + t.count; ++s) {
+            total += kernel[s];
+            open += blocked[s] ? 0.0 : kernel[s];
+            open_rays += blocked[s] ? 0 : 1;
+        }
+        // All samples at zero kernel (grazing): the plain open fraction. No rays: unblocked.
+        const double share = t.count == 0 ? 1.0 : total > 0 ? open / total : double(open_rays) / double(t.count);
+        if (t.shaped && total > 0) {
+            Rgb shaped_open;
+            for (std::size_t s = t.first; s < t.first + t.count; ++s)
+                if (!blocked[s]) shaped_open += scratch.weights[s] * kernel[s];
+            gathered += in.radiosity[t.patch] * shaped_open * (t.f0 / total);
+            continue;
+        }
+        gathered += in.radiosity[t.patch] * (t.f0 * share);
+    }
+    return gathered;
+}
+
+/// B at point i, x, which reflects: its emission plus its reflectance times what it gathers.
+/// First every source's unoccluded factor and ray targets, then all the point's rays in one
+/// batch (traced as packets), then the sum.
+Rgb gather_at(const GatherInputs& in, const Visibility& visibility, std::size_t i, const GatherPoint& x) {
+    SplitMix64 rng{in.options.seed * 0x9E3779B97F4A7C15ull + i};
+    thread_local PointScratch scratch;
+    scratch.terms.clear();
+    scratch.weights.clear();
+    scratch.segments.clear();
+    scratch.kernel.clear();
+    scratch.pending.clear();
+    const std::size_t list = in.sources ? in.sources->list[i] : 0;
+    SourceTaker take{in, x, x.position + in.lift * x.normal, rng, scratch, Rgb()};
+    take_sources(in, list, take);
+    scratch.blocked.resize(scratch.segments.size());
+    visibility.occluded(scratch.segments, scratch.blocked);
+    Rgb gathered = add_terms(take.open_sum, in, scratch);
+    if (in.sources && !in.sources->irradiance.empty()) gathered += in.sources->irradiance[list];
+    return x.emission + x.reflectance * gathered;
+}
+
 /// Both final_gathers: over every patch (sources null) or over each point's list.
 std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity, const Visibility& visibility,
                         std::span<const GatherPoint> points, const GatherSources* sources, const GatherOptions& options,
@@ -151,128 +321,12 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
     if (!options.source_corners.empty() && options.source_corners.size() != 4 * patches.size())
         throw std::invalid_argument("final gather: source corners must be 4 per patch");
     const bool shapes = !options.source_corners.empty();
+    const GatherInputs in{patches, radiosity, sources, options, factor, cards, lift, shapes};
     tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
         if (cancel && cancel->load(std::memory_order_relaxed)) return;
         const GatherPoint& x = points[i];
         if (x.reflectance.max() <= 0) return;  // reflects nothing: B = E
-        SplitMix64 rng{options.seed * 0x9E3779B97F4A7C15ull + i};
-        // First every patch's unoccluded factor and ray targets, then all the point's rays in one
-        // batch (traced as packets), then the sum.
-        struct Term {
-            std::size_t patch, first, count;
-            double f0;
-            bool shaped;  // weights[first .. first + count) hold the samples' shape (GatherOptions::source_corners)
-        };
-        thread_local std::vector<Term> terms;
-        thread_local std::vector<Visibility::Segment> segments;
-        thread_local std::vector<double> kernel;
-        thread_local std::vector<std::uint8_t> blocked;
-        thread_local std::vector<Rgb> weights;
-        terms.clear();
-        weights.clear();
-        segments.clear();
-        kernel.clear();
-        const glm::dvec3 from = x.position + lift * x.normal;
-        const std::size_t list = sources ? sources->list[i] : 0;
-        // Children still to take (gone down to from a listed source, GatherSources::descend),
-        // and whether a shaft test proved them unblocked.
-        thread_local std::vector<std::pair<std::size_t, bool>> pending;
-        pending.clear();
-        Rgb open_sum;  // the sources proved wholly visible: no rays
-        const bool marked = sources && !sources->unblocked.empty();
-        const bool chained = sources && !sources->list_parent.empty();
-        // One source: its term (and rays), or its children onto `pending`.
-        const auto take = [&](std::size_t j, bool unblocked) {
-            const SourceCard& c = cards[j];
-            if (c.surface == x.surface || c.dark) return;
-            if (glm::dot(c.normal, x.position) - c.offset <= 0) return;  // x behind: it sends nothing x's way
-            const double distance = glm::length(c.centre - x.position);
-            if (distance < c.descend_within) {
-                for (int k = 0; k < 4; ++k) pending.push_back({std::size_t(sources->first_child[j] + k), unblocked});
-                return;
-            }
-            const double f0 = factor(x.position, x.normal, j, c, distance);
-            if (!(f0 > 0)) return;
-            if (unblocked) {
-                open_sum += radiosity[j] * f0;
-                return;
-            }
-            const Patch& p = patches[j];
-            // Stratified targets on p: a k x k jittered grid in its unit-square coordinates.
-            int want = std::clamp(int(std::ceil(f0 * options.rays_per_unit_factor)), 1, options.max_rays);
-            if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
-            const int side = grid_side(want);
-            const bool shaped = shapes && distance < options.shape_within * c.radius;
-            Rgb mean;
-            if (shaped) {
-                weights.resize(segments.size());
-                for (int k = 0; k < p.vertex_count; ++k) mean += options.source_corners[4 * j + std::size_t(k)];
-                mean *= 1.0 / p.vertex_count;
-            }
-            terms.push_back({j, segments.size(), std::size_t(side * side), f0, shaped});
-            for (int a = 0; a < side; ++a)
-                for (int b = 0; b < side; ++b) {
-                    // v drawn first: the order the call patch_point(p, u(), v()) evaluated them in.
-                    const double v = (b + rng.uniform()) / side;
-                    const double u = (a + rng.uniform()) / side;
-                    const glm::dvec3 y = patch_point(p, u, v);
-                    if (shaped) weights.push_back(corner_shape(p, &options.source_corners[4 * j], mean, u, v));
-                    const glm::dvec3 d = y - x.position;
-                    const double r2 = glm::dot(d, d);
-                    kernel.push_back(std::max(0.0, glm::dot(x.normal, d)) * std::max(0.0, -glm::dot(p.normal, d)) /
-                                     (r2 * r2));
-                    segments.push_back({from, y + lift * p.normal});
-                }
-        };
-        // The point's list, then (chained) the list's parent's, and so on up.
-        std::int64_t at = std::int64_t(list);
-        std::size_t entry = sources ? sources->offsets[list] : 0;
-        std::size_t end = sources ? sources->offsets[list + 1] : patches.size();
-        for (;;) {
-            if (entry == end) {
-                if (!chained || (at = sources->list_parent[std::size_t(at)]) < 0) break;
-                entry = sources->offsets[std::size_t(at)];
-                end = sources->offsets[std::size_t(at) + 1];
-                continue;
-            }
-            const std::size_t e = entry++;
-            // The sources are scattered over the tree's nodes: fetch the next one's card while
-            // this one is taken (its first touch was the gather's largest stall).
-            if (sources && entry < end) {
-                const char* next = reinterpret_cast<const char*>(&cards[sources->patches[entry]]);
-                for (std::size_t line = 0; line < sizeof(SourceCard); line += 64) __builtin_prefetch(next + line);
-            }
-            take(sources ? sources->patches[e] : e, marked && sources->unblocked[e]);
-            while (!pending.empty()) {  // children last in, first out, each before its siblings
-                const auto [j, unblocked] = pending.back();
-                pending.pop_back();
-                take(j, unblocked);
-            }
-        }
-        blocked.resize(segments.size());
-        visibility.occluded(segments, blocked);
-        Rgb gathered = open_sum;
-        for (const Term& t : terms) {
-            double open = 0, total = 0;
-            std::size_t open_rays = 0;
-            for (std::size_t s = t.first; s < t.first + t.count; ++s) {
-                total += kernel[s];
-                open += blocked[s] ? 0.0 : kernel[s];
-                open_rays += blocked[s] ? 0 : 1;
-            }
-            // All samples at zero kernel (grazing): the plain open fraction. No rays: unblocked.
-            const double share = t.count == 0 ? 1.0 : total > 0 ? open / total : double(open_rays) / double(t.count);
-            if (t.shaped && total > 0) {
-                Rgb shaped_open;
-                for (std::size_t s = t.first; s < t.first + t.count; ++s)
-                    if (!blocked[s]) shaped_open += weights[s] * kernel[s];
-                gathered += radiosity[t.patch] * shaped_open * (t.f0 / total);
-                continue;
-            }
-            gathered += radiosity[t.patch] * (t.f0 * share);
-        }
-        if (sources && !sources->irradiance.empty()) gathered += sources->irradiance[list];
-        out[i] = x.emission + x.reflectance * gathered;
+        out[i] = gather_at(in, visibility, i, x);
         const std::size_t d = ++done;
         if (progress) progress(d, points.size());
     });
