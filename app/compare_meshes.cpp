@@ -193,7 +193,7 @@ void MeshComparison::run_patch_meshes() {
             const PatchMesh um(m_scene, m);
             const auto uv = make_visibility(m_o.visibility, um.patches(), specular_occluders(m_scene));
             const auto ff = make_form_factor_estimator("raycast", um.patches(), uv.get(), m_c.ff);
-            const std::vector<OpenPart> open = open_parts(um.patches(), *uv);
+            const std::vector<OpenPart> open = open_parts(um.patches(), *uv, 4, 16, 1, nullptr, m_scene.covered);
             SolverOptions so;
             so.tolerance = m_c.options.tolerance;  // --tolerance, as solve's
             so.cancel = &g_interrupted;

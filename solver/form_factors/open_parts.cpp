@@ -15,6 +15,8 @@
 namespace bounce {
 namespace {
 
+constexpr int kIntoCover = -100;  // a ray into the gap under a cover: absorbed, as by a back side
+
 struct RayCounts {
     int open_points = 0, points = 0;
     long front = 0, back = 0, other = 0;  // rays from the open points: fronts, back sides, nothing or mirrors
@@ -29,9 +31,29 @@ glm::dvec3 cosine_direction(const glm::dvec3& n, double u, double v) {
     return r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n;
 }
 
+/// True when the ray x + t d (t > 0) passes through one of the covered regions (convex).
+bool through_covered(std::span<const CoveredRegion> covered, const glm::dvec3& x, const glm::dvec3& d) {
+    for (const CoveredRegion& c : covered) {
+        const auto& poly = c.polygon;
+        if (poly.size() < 3) continue;
+        glm::dvec3 n(0.0);
+        for (std::size_t k = 0; k < poly.size(); ++k) n += glm::cross(poly[k], poly[(k + 1) % poly.size()]);
+        const double dn = glm::dot(n, d);
+        if (dn == 0.0) continue;
+        const double t = glm::dot(n, poly[0] - x) / dn;
+        if (!(t > 0.0)) continue;
+        const glm::dvec3 y = x + t * d;
+        bool inside = true;
+        for (std::size_t k = 0; k < poly.size() && inside; ++k)
+            inside = glm::dot(glm::cross(poly[(k + 1) % poly.size()] - poly[k], y - poly[k]), n) >= 0.0;
+        if (inside) return true;
+    }
+    return false;
+}
+
 /// Traces `side` x `side` points of patch i, `rays` each, and adds what they meet to `c`.
-void trace_points(const std::vector<Patch>& patches, const Visibility& vis, std::size_t i, int side, int rays,
-                  double reach, SplitMix64& rng, RayCounts& c) {
+void trace_points(const std::vector<Patch>& patches, const Visibility& vis, std::span<const CoveredRegion> covered,
+                  std::size_t i, int side, int rays, double reach, SplitMix64& rng, RayCounts& c) {
     const Patch& p = patches[i];
     const int ray_side = std::max(1, int(std::lround(std::sqrt(double(rays)))));
     std::vector<int> hits(std::size_t(ray_side * ray_side));
@@ -43,9 +65,11 @@ void trace_points(const std::vector<Patch>& patches, const Visibility& vis, std:
             for (int k = 0; k < ray_side * ray_side; ++k) {
                 const glm::dvec3 d = cosine_direction(p.normal, (k % ray_side + rng.uniform()) / ray_side,
                                                       (k / ray_side + rng.uniform()) / ray_side);
-                const int q = vis.first_patch(x, x + reach * d);
+                int q = vis.first_patch(x, x + reach * d);
+                if (q == Visibility::kNothing && !covered.empty() && through_covered(covered, x, d)) q = kIntoCover;
                 // 0: nothing or a mirror, 1: a front, 2: a back side
-                hits[std::size_t(k)] = q < 0 || q == int(i)                              ? 0
+                hits[std::size_t(k)] = q == kIntoCover                                   ? 2
+                                       : q < 0 || q == int(i)                            ? 0
                                        : glm::dot(patches[std::size_t(q)].normal, d) < 0 ? 1
                                                                                          : 2;
                 if (hits[std::size_t(k)] != 2) ++open;
@@ -66,7 +90,8 @@ double OpenPart::shot_scale(double row_sum) const {
 }
 
 std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibility& visibility, int points, int rays,
-                                 std::uint64_t seed, const std::atomic<bool>* cancel) {
+                                 std::uint64_t seed, const std::atomic<bool>* cancel,
+                                 std::span<const CoveredRegion> covered) {
     glm::dvec3 lo(1e300), hi(-1e300);
     for (const auto& p : patches)
         for (int k = 0; k < p.vertex_count; ++k) {
@@ -80,12 +105,12 @@ std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibi
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             SplitMix64 rng{seed * 0x9E3779B97F4A7C15ull + i};
             RayCounts c;
-            trace_points(patches, visibility, i, points, rays, reach, rng, c);
+            trace_points(patches, visibility, covered, i, points, rays, reach, rng, c);
             // Points that disagree: the patch straddles a cover's edge; its open share is
             // worth a finer look (it scales the patch's irradiance).
             if (c.open_points > 0 && c.open_points < c.points) {
                 c = RayCounts{};
-                trace_points(patches, visibility, i, 2 * points, rays, reach, rng, c);
+                trace_points(patches, visibility, covered, i, 2 * points, rays, reach, rng, c);
             }
             OpenPart& o = out[i];
             o.area_share = double(c.open_points) / double(c.points);

@@ -3,9 +3,11 @@
 
 #include <atomic>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "mesh/patch.h"
+#include "mesh/scene.h"
 
 namespace bounce {
 
@@ -45,8 +47,14 @@ struct OpenPart {
 /// One OpenPart per patch. `points` per side (points^2 on each patch, (2 points)^2 on a patch
 /// whose points disagree) and `rays` per point; reproducible from `seed`. When `cancel`
 /// becomes true, throws Interrupted.
+///
+/// `covered`: the regions the contact and solid cuts left out of the mesh (Scene::covered). A
+/// ray that meets no patch but passes through one went into the gap under a cover (the ceiling
+/// behind a lamp hung just below it): the light is absorbed there, not escaped, and the ray
+/// counts as meeting a back side.
 std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibility& visibility, int points = 4,
-                                 int rays = 16, std::uint64_t seed = 1, const std::atomic<bool>* cancel = nullptr);
+                                 int rays = 16, std::uint64_t seed = 1, const std::atomic<bool>* cancel = nullptr,
+                                 std::span<const CoveredRegion> covered = {});
 
 /// Values of the open parts (radiosity, irradiance) as means over the whole patches: a_i times
 /// the open part's (a buried patch keeps its own). Empty parts of `values` are left alone.

@@ -236,7 +236,7 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
     // Open parts need rays, so a method with visibility; elements shoot from whole patches.
     std::optional<std::vector<OpenPart>> open;
     if (r.open_parts && !elements && r.method != FormFactorMethod::analytic && !cancelled(hooks))
-        open = open_parts(P, *visibility, 4, 16, 1, hooks.cancel);
+        open = open_parts(P, *visibility, 4, 16, 1, hooks.cancel, scene.covered);
     std::optional<FormFactorMatrix> matrix;
     if (!shooting || r.residuals) {
         matrix = FormFactorMatrix::build(*ff, P.size(), r.max_matrix_mb << 20, hooks.rows, hooks.cancel);
