@@ -198,8 +198,7 @@ void MeshComparison::run_patch_meshes() {
             so.tolerance = m_c.options.tolerance;  // --tolerance, as solve's
             so.cancel = &g_interrupted;
             so.open_parts = &open;  // as solve's patch solvers
-            SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
-            to_whole_patch_means(r.radiosity, open);  // as solve writes them
+            const SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
             const double solved = seconds_since(t0);
             for (const double display : m_c.display_tolerances) {
                 // A display row needs gathered point data to refine; without, it is not made.

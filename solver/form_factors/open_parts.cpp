@@ -125,11 +125,6 @@ std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibi
     return out;
 }
 
-void to_whole_patch_means(std::vector<Rgb>& values, const std::vector<OpenPart>& open) {
-    for (std::size_t i = 0; i < values.size() && i < open.size(); ++i)
-        values[i] = values[i] * open[i].receiving_share();
-}
-
 std::vector<Patch> open_part_patches(const std::vector<Patch>& patches, const std::vector<OpenPart>& open) {
     std::vector<Patch> out = patches;
     for (std::size_t i = 0; i < out.size(); ++i) out[i].area *= open[i].receiving_share();

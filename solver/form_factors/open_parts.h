@@ -56,10 +56,6 @@ std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibi
                                  int rays = 16, std::uint64_t seed = 1, const std::atomic<bool>* cancel = nullptr,
                                  std::span<const CoveredRegion> covered = {});
 
-/// Values of the open parts (radiosity, irradiance) as means over the whole patches: a_i times
-/// the open part's (a buried patch keeps its own). Empty parts of `values` are left alone.
-void to_whole_patch_means(std::vector<Rgb>& values, const std::vector<OpenPart>& open);
-
 /// The patches with the areas that receive in the solve (OpenPart::receiving_share), for the
 /// matrix solvers and the energy account.
 std::vector<Patch> open_part_patches(const std::vector<Patch>& patches, const std::vector<OpenPart>& open);

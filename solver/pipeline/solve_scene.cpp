@@ -268,9 +268,6 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
             : make_solver(to_string(r.solver),
                           {solved_patches.empty() ? P : solved_patches, ff.get(), matrix ? &*matrix : nullptr}, so);
     out.result = solver->solve();
-    if (open)  // what the gather, the display cells and the written patch values take B to be
-        for (std::vector<Rgb>* values : {&out.result.radiosity, &out.result.irradiance, &out.result.display})
-            to_whole_patch_means(*values, *open);
     stage_end(hooks);
     out.result.form_factors = method;
     out.result.seconds += out.form_factor_seconds;
