@@ -31,29 +31,41 @@ glm::dvec3 cosine_direction(const glm::dvec3& n, double u, double v) {
     return r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n;
 }
 
-/// True when the ray x + t d (t > 0) passes through one of the covered regions (convex).
-bool through_covered(std::span<const CoveredRegion> covered, const glm::dvec3& x, const glm::dvec3& d) {
-    for (const CoveredRegion& c : covered) {
-        const auto& poly = c.polygon;
-        if (poly.size() < 3) continue;
-        glm::dvec3 n(0.0);
-        for (std::size_t k = 0; k < poly.size(); ++k) n += glm::cross(poly[k], poly[(k + 1) % poly.size()]);
-        const double dn = glm::dot(n, d);
-        if (dn == 0.0) continue;
-        const double t = glm::dot(n, poly[0] - x) / dn;
-        if (!(t > 0.0)) continue;
-        const glm::dvec3 y = x + t * d;
-        bool inside = true;
-        for (std::size_t k = 0; k < poly.size() && inside; ++k)
-            inside = glm::dot(glm::cross(poly[(k + 1) % poly.size()] - poly[k], y - poly[k]), n) >= 0.0;
-        if (inside) return true;
+/// The covered regions (convex) with their planes' normals (Newell's, unnormalised), found once.
+struct Covers {
+    explicit Covers(std::span<const CoveredRegion> covered) : regions(covered) {
+        for (const CoveredRegion& c : regions) {
+            glm::dvec3 n(0.0);
+            for (std::size_t k = 0; k < c.polygon.size(); ++k)
+                n += glm::cross(c.polygon[k], c.polygon[(k + 1) % c.polygon.size()]);
+            normals.push_back(n);
+        }
     }
-    return false;
-}
+    /// True when the ray x + t d (t > 0) passes through one of the regions.
+    bool crossed_by(const glm::dvec3& x, const glm::dvec3& d) const {
+        for (std::size_t r = 0; r < regions.size(); ++r) {
+            const auto& poly = regions[r].polygon;
+            const glm::dvec3& n = normals[r];
+            if (poly.size() < 3) continue;
+            const double dn = glm::dot(n, d);
+            if (dn == 0.0) continue;
+            const double t = glm::dot(n, poly[0] - x) / dn;
+            if (!(t > 0.0)) continue;
+            const glm::dvec3 y = x + t * d;
+            bool inside = true;
+            for (std::size_t k = 0; k < poly.size() && inside; ++k)
+                inside = glm::dot(glm::cross(poly[(k + 1) % poly.size()] - poly[k], y - poly[k]), n) >= 0.0;
+            if (inside) return true;
+        }
+        return false;
+    }
+    std::span<const CoveredRegion> regions;
+    std::vector<glm::dvec3> normals;
+};
 
 /// Traces `side` x `side` points of patch i, `rays` each, and adds what they meet to `c`.
-void trace_points(const std::vector<Patch>& patches, const Visibility& vis, std::span<const CoveredRegion> covered,
-                  std::size_t i, int side, int rays, double reach, SplitMix64& rng, RayCounts& c) {
+void trace_points(const std::vector<Patch>& patches, const Visibility& vis, const Covers& covers, std::size_t i,
+                  int side, int rays, double reach, SplitMix64& rng, RayCounts& c) {
     const Patch& p = patches[i];
     const int ray_side = std::max(1, int(std::lround(std::sqrt(double(rays)))));
     std::vector<int> hits(std::size_t(ray_side * ray_side));
@@ -66,7 +78,7 @@ void trace_points(const std::vector<Patch>& patches, const Visibility& vis, std:
                 const glm::dvec3 d = cosine_direction(p.normal, (k % ray_side + rng.uniform()) / ray_side,
                                                       (k / ray_side + rng.uniform()) / ray_side);
                 int q = vis.first_patch(x, x + reach * d);
-                if (q == Visibility::kNothing && !covered.empty() && through_covered(covered, x, d)) q = kIntoCover;
+                if (q == Visibility::kNothing && covers.crossed_by(x, d)) q = kIntoCover;
                 // 0: nothing or a mirror, 1: a front, 2: a back side
                 hits[std::size_t(k)] = q == kIntoCover                                   ? 2
                                        : q < 0 || q == int(i)                            ? 0
@@ -99,18 +111,19 @@ std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibi
             hi = glm::max(hi, p.vertices[k]);
         }
     const double reach = 2.0 * glm::length(hi - lo) + 1.0;  // past every patch
+    const Covers covers(covered);
     std::vector<OpenPart> out(patches.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, patches.size(), 16), [&](const auto& range) {
         if (cancel && cancel->load()) return;
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             SplitMix64 rng{seed * 0x9E3779B97F4A7C15ull + i};
             RayCounts c;
-            trace_points(patches, visibility, covered, i, points, rays, reach, rng, c);
+            trace_points(patches, visibility, covers, i, points, rays, reach, rng, c);
             // Points that disagree: the patch straddles a cover's edge; its open share is
             // worth a finer look (it scales the patch's irradiance).
             if (c.open_points > 0 && c.open_points < c.points) {
                 c = RayCounts{};
-                trace_points(patches, visibility, covered, i, 2 * points, rays, reach, rng, c);
+                trace_points(patches, visibility, covers, i, 2 * points, rays, reach, rng, c);
             }
             OpenPart& o = out[i];
             o.area_share = double(c.open_points) / double(c.points);

@@ -103,22 +103,11 @@ void open_part_energy_account(const std::vector<Patch>& P, const FormFactorMatri
 
 }  // namespace
 
-void matrix_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& F, SolveResult& res,
-                           const std::vector<OpenPart>* open) {
+namespace {
+
+// Whole patches, reciprocal F: row i spreads what leaves i (H_j A_j = sum_i B_i A_i F_ij).
+void whole_patch_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& F, SolveResult& res) {
     const std::size_t n = P.size();
-    res.irradiance.assign(n, Rgb());
-    res.unshot.assign(n, Rgb());
-    res.emitted_power = res.absorbed_power = res.escaped_power = res.unshot_power = Rgb();
-    res.back_absorbed_power = Rgb();
-    if (open) {
-        open_part_energy_account(P, F, res, *open);
-        for (std::size_t j = 0; j < n; ++j) {
-            const Rgb owed = P[j].emission + P[j].reflectance * res.irradiance[j] - res.radiosity[j];
-            res.unshot_power += owed * P[j].area;
-        }
-        res.unshot_fraction = res.emitted_power.sum() > 0 ? res.unshot_power.sum() / res.emitted_power.sum() : 0.0;
-        return;
-    }
     std::vector<double> sums = F.row_sums();
     for (std::size_t i = 0; i < n; ++i) {
         res.emitted_power += P[i].emission * P[i].area;
@@ -137,6 +126,21 @@ void matrix_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& 
         const Rgb arriving = res.irradiance[j] * P[j].area;
         res.absorbed_power += arriving - P[j].reflectance * arriving;
     }
+}
+
+}  // namespace
+
+void matrix_energy_account(const std::vector<Patch>& P, const FormFactorMatrix& F, SolveResult& res,
+                           const std::vector<OpenPart>* open) {
+    const std::size_t n = P.size();
+    res.irradiance.assign(n, Rgb());
+    res.unshot.assign(n, Rgb());
+    res.emitted_power = res.absorbed_power = res.escaped_power = res.unshot_power = Rgb();
+    res.back_absorbed_power = Rgb();
+    if (open)
+        open_part_energy_account(P, F, res, *open);
+    else
+        whole_patch_energy_account(P, F, res);
     // Not yet in balance: B differs from E + rho H by the residual; that difference is
     // the "unshot" power a gathering solver still owes.
     for (std::size_t j = 0; j < n; ++j) {

@@ -35,8 +35,12 @@ private:
     const float* row_of(std::size_t shooter);
     /// Shoots the shooter's unshot radiosity (and, over-shooting, more) to every receiver.
     void shoot(std::size_t shooter, const float* row, const Rgb& unshot_signed);
-    /// The same with open parts (SolverOptions::open_parts), after the shooter gave up `shot`.
-    void shoot_open(std::size_t shooter, const float* row, const Rgb& shot);
+    /// Sends `shot` from the shooter to every receiver; returns the power that landed.
+    Rgb deliver(std::size_t shooter, const float* row, const Rgb& shot, double ai);
+    /// The same between open parts (SolverOptions::open_parts).
+    Rgb deliver_open(std::size_t shooter, const float* row, const Rgb& shot);
+    /// Receiver j takes irradiance dh (power `arriving`), reflects rho_j dh as unshot radiosity.
+    void receive(std::size_t j, const Rgb& dh, const Rgb& arriving, Rgb& arrived);
 
     Rgb ambient_of(const Rgb& unshot_power) const;
     void with_ambient(std::vector<Rgb>& out) const;
@@ -311,42 +315,53 @@ void ShootingRun::shoot(std::size_t shooter, const float* row, const Rgb& unshot
     // exactly A_i * shot leaves, whatever the spread among the elements.
     for (std::size_t k = m_first_child[shooter]; k < m_first_child[shooter + 1]; ++k)
         m_res.unshot[m_child[k]] = mean_unshot - shot;
+    const Rgb arrived = m_open ? deliver_open(shooter, row, shot) : deliver(shooter, row, shot, ai);
+    const Rgb left = shot * ai - arrived;  // lands on no patch's front
     if (m_open) {
-        shoot_open(shooter, row, shot);
-        return;
+        // To black back sides (absorbed) and out through openings (escaped) in the shares the
+        // open part's rays saw.
+        const double back = (*m_open)[shooter].back_share;
+        m_res.absorbed_power += left * back;
+        m_res.back_absorbed_power += left * back;
+        m_res.escaped_power += left * (1.0 - back);
+    } else {
+        m_res.escaped_power += left;
     }
+    m_res.shot_power += shot * ai;
+    m_shot_abs += (std::abs(shot.r) + std::abs(shot.g) + std::abs(shot.b)) * ai;
+}
+
+void ShootingRun::receive(std::size_t j, const Rgb& dh, const Rgb& arriving, Rgb& arrived) {
+    const Rgb reflected = m_patch_rho[j] * dh;  // radiosity increment
+    m_res.irradiance[j] += dh;
+    m_res.radiosity[j] += reflected;
+    m_res.unshot[j] += reflected;
+    m_res.absorbed_power += arriving - m_patch_rho[j] * arriving;
+    arrived += arriving;
+}
+
+Rgb ShootingRun::deliver(std::size_t shooter, const float* row, const Rgb& shot, double ai) {
     Rgb arrived;
     for (std::size_t j = 0; j < m_n; ++j) {
         if (row && row[j] == 0.0f) continue;
         const double fji = row ? double(row[j]) * ai / m_patch_area[j] : double((*m_matrix)(j, shooter));
         if (fji == 0.0) continue;
-        const Rgb dh = shot * fji;                  // irradiance increment
-        const Rgb arriving = dh * m_patch_area[j];  // power arriving at j
-        const Rgb reflected = m_patch_rho[j] * dh;  // radiosity increment
-        m_res.irradiance[j] += dh;
-        m_res.radiosity[j] += reflected;
-        m_res.unshot[j] += reflected;
-        m_res.absorbed_power += arriving - m_patch_rho[j] * arriving;
-        arrived += arriving;
+        const Rgb dh = shot * fji;                      // irradiance increment
+        receive(j, dh, dh * m_patch_area[j], arrived);  // power arriving at j: dh A_j
     }
-    m_res.escaped_power += shot * ai - arrived;
-    m_res.shot_power += shot * ai;
-    m_shot_abs += (std::abs(shot.r) + std::abs(shot.g) + std::abs(shot.b)) * ai;
+    return arrived;
 }
 
 // Shooting from and to open parts (open_parts.h): patch i's open part, area a_i A_i, sends
 // A'_i dB_i along the row F'_ij = k_i F_ij, where F_ij is the whole patches' row (what its
 // open points' rays reach) and k_i its scale (OpenPart::shot_scale over a_i); j's open part
-// receives it over a_j A_j. What the row leaves over goes to black back sides (absorbed) and
-// out through openings (escaped) in the shares the open part's rays saw.
-void ShootingRun::shoot_open(std::size_t i, const float* row, const Rgb& shot) {
-    const OpenPart& open = (*m_open)[i];
-    const double area_i = m_patches[i].area;
-    double power_scale = 1.0;  // k_i a_i
+// receives it over a_j A_j.
+Rgb ShootingRun::deliver_open(std::size_t i, const float* row, const Rgb& shot) {
+    double power_scale = 1.0;  // k_i a_i A_i
     if (row) {
         double row_sum = 0.0;
         for (std::size_t j = 0; j < m_n; ++j) row_sum += double(row[j]);
-        power_scale = open.shot_scale(row_sum) * area_i;
+        power_scale = (*m_open)[i].shot_scale(row_sum) * m_patches[i].area;
     }
     Rgb arrived;
     for (std::size_t j = 0; j < m_n; ++j) {
@@ -355,20 +370,9 @@ void ShootingRun::shoot_open(std::size_t i, const float* row, const Rgb& shot) {
         const double landing = row ? double(row[j]) * power_scale : double((*m_matrix)(j, i)) * m_patch_area[j];
         if (landing == 0.0) continue;
         const Rgb arriving = shot * landing;
-        const Rgb dh = arriving * (1.0 / m_patch_area[j]);
-        const Rgb reflected = m_patch_rho[j] * dh;
-        m_res.irradiance[j] += dh;
-        m_res.radiosity[j] += reflected;
-        m_res.unshot[j] += reflected;
-        m_res.absorbed_power += arriving - m_patch_rho[j] * arriving;
-        arrived += arriving;
+        receive(j, arriving * (1.0 / m_patch_area[j]), arriving, arrived);
     }
-    const Rgb left = shot * m_patch_area[i] - arrived;
-    m_res.absorbed_power += left * open.back_share;
-    m_res.back_absorbed_power += left * open.back_share;
-    m_res.escaped_power += left * (1.0 - open.back_share);
-    m_res.shot_power += shot * m_patch_area[i];
-    m_shot_abs += (std::abs(shot.r) + std::abs(shot.g) + std::abs(shot.b)) * m_patch_area[i];
+    return arrived;
 }
 
 SolveResult ShootingRun::run() {

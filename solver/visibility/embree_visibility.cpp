@@ -89,23 +89,11 @@ public:
     EmbreeVisibility& operator=(const EmbreeVisibility&) = delete;
 
     bool occluded(const glm::dvec3& a, const glm::dvec3& b) const override {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        RTCRay ray{};
-        const glm::dvec3 o = a - m_centre, d = b - a;
-        ray.org_x = float(o.x);
-        ray.org_y = float(o.y);
-        ray.org_z = float(o.z);
-        ray.dir_x = float(d.x);
-        ray.dir_y = float(d.y);
-        ray.dir_z = float(d.z);
-        // The segment a-b is t in [0, 1] along an unnormalised direction, trimmed by the offset.
         const double t0 = trim(a, b);
         if (t0 >= 0.5) return false;
-        ray.tnear = float(t0);
-        ray.tfar = float(1.0 - t0);
-        ray.mask = 0xFFFFFFFFu;
-        ray.flags = 0;
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        RTCRay ray = segment_ray(a, b, t0);
         rtcOccluded1(m_scene, &context, &ray);
         // Embree marks an occluded ray by setting tfar to -inf.
         return ray.tfar < 0.0f;
@@ -128,16 +116,7 @@ public:
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         RTCRayHit rh{};
-        const glm::dvec3 o = a - m_centre, d = b - a;
-        rh.ray.org_x = float(o.x);
-        rh.ray.org_y = float(o.y);
-        rh.ray.org_z = float(o.z);
-        rh.ray.dir_x = float(d.x);
-        rh.ray.dir_y = float(d.y);
-        rh.ray.dir_z = float(d.z);
-        rh.ray.tnear = float(t0);
-        rh.ray.tfar = float(1.0 - t0);
-        rh.ray.mask = 0xFFFFFFFFu;
+        rh.ray = segment_ray(a, b, t0);
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(m_scene, &context, &rh);
@@ -147,6 +126,24 @@ public:
     std::string name() const override { return "embree"; }
 
 private:
+    /// The segment a-b as an Embree ray: t in [t0, 1 - t0] along the unnormalised direction b - a
+    /// (trimmed by trim()), the origin recentred.
+    RTCRay segment_ray(const glm::dvec3& a, const glm::dvec3& b, double t0) const {
+        RTCRay ray{};
+        const glm::dvec3 o = a - m_centre, d = b - a;
+        ray.org_x = float(o.x);
+        ray.org_y = float(o.y);
+        ray.org_z = float(o.z);
+        ray.dir_x = float(d.x);
+        ray.dir_y = float(d.y);
+        ray.dir_z = float(d.z);
+        ray.tnear = float(t0);
+        ray.tfar = float(1.0 - t0);
+        ray.mask = 0xFFFFFFFFu;
+        ray.flags = 0;
+        return ray;
+    }
+
     /// Segments [base, base + N) (fewer at the end) as one packet of N; a segment shorter than
     /// twice the offset is left invalid and reported open.
     template <class Packet, int N>
