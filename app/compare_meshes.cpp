@@ -22,12 +22,12 @@
 #include "app/progress_line.h"
 #include "app/reference_points.h"
 #include "app/signals.h"
+#include "mesh/errors.h"
 #include "mesh/input_error.h"
 #include "mesh/patch_mesh.h"
 #include "mesh/specular_occluders.h"
 #include "solver/form_factors/form_factor_estimator.h"
-#include "solver/form_factors/open_parts.h"
-#include "solver/linear/shooting_solver.h"
+#include "solver/pipeline/solve_scene.h"
 #include "solver/reference/probe_classes.h"
 #include "solver/reference/probe_score.h"
 #include "solver/refinement/adaptive_radiosity.h"
@@ -190,15 +190,23 @@ void MeshComparison::run_patch_meshes() {
             m.kind = kind;
             m.target_patches = n;
             m.max_area = m.max_edge = 0;
-            const PatchMesh um(m_scene, m);
-            const auto uv = make_visibility(m_o.visibility, um.patches(), specular_occluders(m_scene));
-            const auto ff = make_form_factor_estimator("raycast", um.patches(), uv.get(), m_c.ff);
-            const std::vector<OpenPart> open = open_parts(um.patches(), *uv, 4, 16, 1, nullptr, m_scene.covered);
-            SolverOptions so;
-            so.tolerance = m_c.options.tolerance;  // --tolerance, as solve's
-            so.cancel = &g_interrupted;
-            so.open_parts = &open;  // as solve's patch solvers
-            const SolveResult r = ShootingSolver(um.patches(), *ff, so).solve();
+            // As `solve --patches N` runs it, from the one pipeline; the point data are compare's.
+            SolveRequest request;
+            request.meshing = m;
+            request.visibility = m_o.visibility;
+            request.form_factors = m_c.ff;
+            request.tolerance = m_c.options.tolerance;  // --tolerance, as solve's
+            request.gather = GatherMode::none;
+            SolveHooks hooks;
+            hooks.cancel = &g_interrupted;
+            std::optional<SolvedScene> solved_scene;
+            try {
+                solved_scene = solve_scene(m_scene, request, hooks);
+            } catch (const Interrupted&) {
+                return;  // stopped before the solve (open parts, form factors): no row
+            }
+            const PatchMesh& um = *solved_scene->mesh;
+            const SolveResult& r = solved_scene->result;
             const double solved = seconds_since(t0);
             for (const double display : m_c.display_tolerances) {
                 // A display row needs gathered point data to refine; without, it is not made.

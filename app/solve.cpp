@@ -49,6 +49,7 @@ struct SolveCommand {
     HierarchicalOptions hierarchical;
     bool no_clustering = false;       // hierarchical: refine every pair of patches, no cluster hierarchy
     bool whole_patches = false;       // patch solvers: no open parts (open_parts.h)
+    bool no_balance = false;          // patch solvers: rows as sampled (balanced_form_factors.h)
     std::string gather = "vertices";  // point data: final gather at the vertices (point_values.h)
     double display_tolerance = 0.0;   // hierarchical: display refinement of the point data, 0: off
     // The options whose being given matters (SolveRequest's optional fields), by key.
@@ -87,6 +88,7 @@ SolveRequest request_of(const CommonOptions& o, const SolveCommand& s) {
     r.max_level = s.hierarchical.max_level;
     r.clustering = !s.no_clustering;
     r.open_parts = !s.whole_patches;
+    r.balance = !s.no_balance;
     r.gather = parse_gather_mode(s.gather);
     if (s.was_given("display-tolerance")) r.display_tolerance = s.display_tolerance;
     return r;
@@ -330,6 +332,9 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                         "patch solvers: solve on whole patches, not on their parts open to the scene (a patch "
                         "partly under another object then loses the light its buried part sends, and rows keep "
                         "their sampling error)");
+    solve_cmd->add_flag("--no-balance", solve->no_balance,
+                        "patch solvers: keep the form-factor rows as sampled (each closed part's shot scaled to "
+                        "its open share) instead of making them reciprocal and summing to it");
     solve_cmd->add_flag("--ascii", solve->ascii, "write ASCII instead of compressed binary");
     solve_cmd->add_flag("--paraview", solve->paraview,
                         "also write OUT_paraview.py beside OUT.vtu: a ParaView script (pvpython, or the GUI's "

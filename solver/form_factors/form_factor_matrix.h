@@ -36,6 +36,8 @@ public:
     std::vector<double> row_sums() const;
     float operator()(std::size_t i, std::size_t j) const { return m_f[i * m_n + j]; }
     const float* row(std::size_t i) const { return m_f.data() + i * m_n; }
+    /// Row i to rewrite in place (balance_form_factors).
+    float* mutable_row(std::size_t i) { return m_f.data() + i * m_n; }
     double seconds() const { return m_seconds; }  // time to build
 
 private:

@@ -86,6 +86,10 @@ struct SolveRequest {
     /// Patch solvers with visibility: solve on the patches' open parts (open_parts.h); false:
     /// whole patches, with rows as the form factors give them.
     bool open_parts = true;
+    /// With open parts, where the whole matrix fits (the matrix solvers; shooting within its
+    /// cache): reciprocal rows that sum to the open share on closed parts
+    /// (balanced_form_factors.h); false: rows as sampled, each shot scaled.
+    bool balance = true;
     std::optional<std::vector<Rgb>> reference;  // B per patch: the log's error columns
     std::vector<std::string> retired;           // keys of retired options that were given (refused)
 

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "mesh/specular_occluders.h"
+#include "solver/form_factors/balanced_form_factors.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/open_parts.h"
 #include "solver/form_factors/raycast_form_factor.h"
@@ -194,14 +195,16 @@ SolverOptions solver_options(const SolveRequest& r, const SolveHooks& hooks) {
     return so;
 }
 
-std::string patch_settings(const SolveRequest& r, const SolverOptions& so, std::size_t patches, const PatchMesh& mesh) {
+std::string patch_settings(const SolveRequest& r, const SolverOptions& so, bool balanced, std::size_t patches,
+                           const PatchMesh& mesh) {
     std::ostringstream s;
     s << "patches=" << patches << " elements=" << mesh.size() << " edge=" << mesh.edge_length()
       << " solver=" << to_string(r.solver) << " sor=" << so.sor << " method=" << to_string(r.method)
       << " rays=" << with_default_rays(r.form_factors, kPatchPairRays).visibility_rays
       << " receiver_samples=" << r.form_factors.receiver_samples
       << " hemicube_res=" << r.form_factors.hemicube_resolution << " seed=" << r.form_factors.seed
-      << " tolerance=" << so.tolerance << (so.open_parts ? " open_parts=1" : "") << (r.flip ? " flip=1" : "");
+      << " tolerance=" << so.tolerance << (so.open_parts ? " open_parts=1" : "") << (balanced ? " balanced=1" : "")
+      << (r.flip ? " flip=1" : "");
     return s.str();
 }
 
@@ -237,21 +240,40 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
     std::optional<std::vector<OpenPart>> open;
     if (r.open_parts && !elements && r.method != FormFactorMethod::analytic && !cancelled(hooks))
         open = open_parts(P, *visibility, 4, 16, 1, hooks.cancel, scene.covered);
+    SolverOptions so = solver_options(r, hooks);
+    // Balancing needs every row; shooting builds them all when they fit in its row cache.
+    const bool balance = open && r.balance && (!shooting || FormFactorMatrix::bytes_for(P.size()) <= so.cache_mb << 20);
     std::optional<FormFactorMatrix> matrix;
-    if (!shooting || r.residuals) {
-        matrix = FormFactorMatrix::build(*ff, P.size(), r.max_matrix_mb << 20, hooks.rows, hooks.cancel);
+    std::optional<FormFactorMatrix> balanced;  // shooting's rows, whole patches
+    std::unique_ptr<MatrixFormFactor> balanced_rows;
+    if (!shooting || r.residuals || balance) {
+        const std::size_t limit = (shooting && !r.residuals ? so.cache_mb : r.max_matrix_mb) << 20;
+        matrix = FormFactorMatrix::build(*ff, P.size(), limit, hooks.rows, hooks.cancel);
         stage_end(hooks);
-        check_rows(P, *matrix, out.warnings);
         out.form_factor_seconds = matrix->seconds();
-        if (open) matrix = open_part_matrix(*matrix, *open);
+        if (balance) {
+            const auto balance_start = Clock::now();
+            matrix = balance_form_factors(std::move(*matrix), P, *open);
+            out.form_factor_seconds += seconds_since(balance_start);
+        }
+        check_rows(P, *matrix, out.warnings);
+        if (shooting && balance) {
+            // Shooting reads the balanced rows from the matrix, so keeps no cache of its own.
+            if (r.residuals)
+                balanced = *matrix;
+            else
+                balanced = std::move(matrix), matrix.reset();
+            balanced_rows = std::make_unique<MatrixFormFactor>(*balanced, to_string(r.method));
+            so.cache_mb = 0;
+        }
+        if (open && matrix) matrix = open_part_matrix(*matrix, *open);
     }
     // The matrix solvers see the open parts' areas; shooting reads whole patches' rows and
     // scales them itself.
     const std::vector<Patch> solved_patches = open && !shooting ? open_part_patches(P, *open) : std::vector<Patch>{};
-    SolverOptions so = solver_options(r, hooks);
     if (open) so.open_parts = &*open;
     out.patches = elements ? shooters->size() : mesh->size();
-    out.settings = patch_settings(r, so, out.patches, *mesh);
+    out.settings = patch_settings(r, so, balance, out.patches, *mesh);
     if (r.series.value_or(0) > 0 && hooks.snapshot) {
         so.snapshot_every = *r.series;
         so.snapshot = [&](const SolveResult& so_far) {
@@ -261,12 +283,13 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
             hooks.snapshot(*mesh, out.settings, snap);
         };
     }
-    const auto solver =
-        elements
-            ? std::make_unique<ShootingSolver>(P, *ff, so, nullptr,
-                                               ElementHierarchy{&shooters->patches(), &mesh->parents()})
-            : make_solver(to_string(r.solver),
-                          {solved_patches.empty() ? P : solved_patches, ff.get(), matrix ? &*matrix : nullptr}, so);
+    const auto solver = elements
+                            ? std::make_unique<ShootingSolver>(P, *ff, so, nullptr,
+                                                               ElementHierarchy{&shooters->patches(), &mesh->parents()})
+                            : make_solver(to_string(r.solver),
+                                          {solved_patches.empty() ? P : solved_patches,
+                                           balanced_rows ? balanced_rows.get() : ff.get(), matrix ? &*matrix : nullptr},
+                                          so);
     out.result = solver->solve();
     stage_end(hooks);
     out.result.form_factors = method;
