@@ -247,10 +247,13 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     }
     const double floor = 0.01 * power / area;
     for (std::size_t p = 0; p < n; ++p) {
-        double corner_mean = 0.0;
+        double corner_mean = 0.0, lo = 1e300, hi = 0.0;
         const std::vector<int> vertices = mesh.patch_vertex_indices(p);
         for (const int v : vertices) {
-            corner_mean += res.point_radiosity[std::size_t(v)].luminance();
+            const double b = res.point_radiosity[std::size_t(v)].luminance();
+            corner_mean += b;
+            lo = std::min(lo, b);
+            hi = std::max(hi, b);
             if (!added[std::size_t(v)]) {
                 known.add(sources[p].surface,
                           {mesh.vertex_position(std::size_t(v)), res.point_radiosity[std::size_t(v)]});
@@ -258,7 +261,8 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
             }
         }
         corner_mean /= double(vertices.size());
-        if (relative_miss(radiosity[p].luminance(), corner_mean, floor) > options.tolerance)
+        if (relative_miss(radiosity[p].luminance(), corner_mean, floor) > options.tolerance ||
+            relative_miss(hi, lo, floor) > options.corner_spread)
             active.push_back(std::uint32_t(p));
     }
     std::vector<std::uint32_t> cells(n);

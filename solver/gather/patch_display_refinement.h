@@ -24,6 +24,11 @@ struct PatchDisplayRefinement {
     double tolerance = 0.0;
     /// Splits below each patch: each halves the cells' edges.
     int max_depth = 2;
+    /// A patch is also tried split where its corners' values differ by more than this share
+    /// of the brightest (a shadow line crossing it): its mean can match the corners' mean by
+    /// chance while the light inside it bends, and whether it did would then depend on the
+    /// rays' noise. Values above 1: never.
+    double corner_spread = 0.3;
 };
 
 /// The display tolerance the patch solvers gather with unless one is given.
@@ -32,6 +37,7 @@ inline constexpr double kPatchDisplayTolerance = 0.02;
 /// After gather_point_values in mode "vertices" (res.point_radiosity per vertex of `mesh`):
 /// tries a split of every patch whose radiosity (its mean, from the solve) differs from the
 /// mean of its vertices' values by more than the tolerance (interpolation misrepresents it),
+/// or whose vertices' values spread by more than corner_spread,
 /// gathers the split's new vertices from the solved patches, keeps the split where one of them
 /// misses the interpolation by more than the tolerance and tries the kept cells again, down to
 /// max_depth. Then replaces `mesh` by the cells' conforming mesh (ElementTree::conforming_mesh)

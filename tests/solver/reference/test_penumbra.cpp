@@ -17,6 +17,7 @@
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/gather/hierarchical_point_values.h"
+#include "solver/gather/patch_display_refinement.h"
 #include "solver/gather/point_values.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/reference/probe_score.h"
@@ -144,4 +145,43 @@ TEST(Penumbra, DisplayRefinementFollowsThePenumbraOnCoarsePatches) {
     }
     EXPECT_NEAR(cell_area, area, 1e-12 * area);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(cell_power[c], power[c], 1e-12 * power[c]);
+}
+
+TEST(Penumbra, APatchWhoseMeanMatchesItsCornersIsSplitWhereTheyDisagree) {
+    // Each patch's value is set to the mean of its gathered corners, so the mean test finds
+    // nothing to split: the patches the penumbra crosses (corners far apart) must be tried
+    // all the same. With the corner test off (a spread above 1) nothing is split and the
+    // interpolation misses the penumbra's curve by a third; the corner test alone brings the
+    // worst probe under a tenth, the rest being the mean test's (the test above: both, 5%).
+    const Scene scene = blocked_lamp();
+    MeshingOptions coarse;
+    coarse.target_patches = 300;
+    const PatchMesh mesh(scene, coarse);
+    const auto visibility = make_visibility("embree", mesh.patches());
+    const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
+    SolveResult solved = ShootingSolver(mesh.patches(), *ff, SolverOptions{}).solve();
+    ASSERT_EQ(gather_point_values(mesh, *visibility, solved, "vertices"), GatherOutcome::gathered);
+    for (std::size_t p = 0; p < mesh.size(); ++p) {
+        Rgb mean;
+        const std::vector<int> corners = mesh.patch_vertex_indices(p);
+        for (const int v : corners) mean += solved.point_radiosity[std::size_t(v)] * (1.0 / double(corners.size()));
+        solved.radiosity[p] = mean;
+    }
+    const auto reference = exact_penumbra();
+    const auto refine = [&](double spread, std::size_t& added) {
+        PatchMesh cells = mesh;
+        SolveResult r = solved;
+        PatchDisplayRefinement o{0.02};
+        o.corner_spread = spread;
+        added = refine_patch_display(cells, r, *visibility, o);
+        return score_at_probes(cells, r.radiosity, reference, r.point_radiosity);
+    };
+    std::size_t with = 0, without = 0;
+    const ProbeScore split = refine(PatchDisplayRefinement{}.corner_spread, with), kept = refine(2.0, without);
+    std::cout << "means set to the corners': corner test on " << with << " cells added, worst " << split.max_smooth
+              << "; off " << without << " added, worst " << kept.max_smooth << "\n";
+    EXPECT_EQ(without, 0u);
+    EXPECT_GT(with, 0u);
+    EXPECT_GT(kept.max_smooth, 0.2);
+    EXPECT_LE(split.max_smooth, 0.1);
 }
