@@ -209,6 +209,48 @@ void share_by_point_data(SolveResult& res, const std::vector<Patch>& patches, co
     }
 }
 
+/// A hundredth of the scene's mean radiosity (luminance): misses are relative to it where
+/// both values are darker, so the darkest corners do not split for noise.
+double dark_floor(const std::vector<Patch>& patches, const std::vector<Rgb>& radiosity) {
+    double area = 0.0, power = 0.0;
+    for (std::size_t p = 0; p < patches.size(); ++p) {
+        area += patches[p].area;
+        power += patches[p].area * radiosity[p].luminance();
+    }
+    return 0.01 * power / area;
+}
+
+/// The patches to try a split of: where the solved mean misses the mean of the gathered
+/// corners, or the corners differ among themselves (PatchDisplayRefinement). Each vertex's
+/// gathered value goes into `known` once, on its patch's surface.
+std::vector<std::uint32_t> patches_to_try(const PatchMesh& mesh, const std::vector<Rgb>& radiosity,
+                                          const std::vector<Rgb>& point_radiosity,
+                                          const PatchDisplayRefinement& options, double floor, PointValues& known) {
+    const std::vector<Patch>& sources = mesh.patches();
+    const std::size_t n = sources.size();
+    std::vector<std::uint8_t> added(point_radiosity.size(), 0);
+    std::vector<std::uint32_t> active;
+    for (std::size_t p = 0; p < n; ++p) {
+        double corner_mean = 0.0, lo = 1e300, hi = 0.0;
+        const std::vector<int> vertices = mesh.patch_vertex_indices(p);
+        for (const int v : vertices) {
+            const double b = point_radiosity[std::size_t(v)].luminance();
+            corner_mean += b;
+            lo = std::min(lo, b);
+            hi = std::max(hi, b);
+            if (!added[std::size_t(v)]) {
+                known.add(sources[p].surface, {mesh.vertex_position(std::size_t(v)), point_radiosity[std::size_t(v)]});
+                added[std::size_t(v)] = 1;
+            }
+        }
+        corner_mean /= double(vertices.size());
+        if (relative_miss(radiosity[p].luminance(), corner_mean, floor) > options.tolerance ||
+            relative_miss(hi, lo, floor) > options.corner_spread)
+            active.push_back(std::uint32_t(p));
+    }
+    return active;
+}
+
 }  // namespace
 
 std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibility& visibility,
@@ -238,33 +280,8 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     }
     ElementTree tree(sources);
     PointValues known(tree.weld());
-    std::vector<std::uint8_t> added(res.point_radiosity.size(), 0);
-    double area = 0.0, power = 0.0;
-    std::vector<std::uint32_t> active;  // nodes to try a split of
-    for (std::size_t p = 0; p < n; ++p) {
-        area += sources[p].area;
-        power += sources[p].area * radiosity[p].luminance();
-    }
-    const double floor = 0.01 * power / area;
-    for (std::size_t p = 0; p < n; ++p) {
-        double corner_mean = 0.0, lo = 1e300, hi = 0.0;
-        const std::vector<int> vertices = mesh.patch_vertex_indices(p);
-        for (const int v : vertices) {
-            const double b = res.point_radiosity[std::size_t(v)].luminance();
-            corner_mean += b;
-            lo = std::min(lo, b);
-            hi = std::max(hi, b);
-            if (!added[std::size_t(v)]) {
-                known.add(sources[p].surface,
-                          {mesh.vertex_position(std::size_t(v)), res.point_radiosity[std::size_t(v)]});
-                added[std::size_t(v)] = 1;
-            }
-        }
-        corner_mean /= double(vertices.size());
-        if (relative_miss(radiosity[p].luminance(), corner_mean, floor) > options.tolerance ||
-            relative_miss(hi, lo, floor) > options.corner_spread)
-            active.push_back(std::uint32_t(p));
-    }
+    const double floor = dark_floor(sources, radiosity);
+    std::vector<std::uint32_t> active = patches_to_try(mesh, radiosity, res.point_radiosity, options, floor, known);
     std::vector<std::uint32_t> cells(n);
     std::iota(cells.begin(), cells.end(), 0u);
     double pairs = 0.0;
