@@ -207,6 +207,14 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         if (options.progress) options.progress(stage + ": refining links", 0, 1);
         links = refine(rounds, tree, x, seen);
         out.reused_links += link_form_factors(rounds, tree, known, stage, links);
+        if (options.cancel && options.cancel->load()) {
+            // Stopped before this round's iteration, whose setup alone walks every link: B
+            // stays the estimate refinement used, and nothing is gathered.
+            x.H.assign(x.B.size(), Rgb());
+            res.status = SolveStatus::interrupted;
+            res.converged = false;
+            break;
+        }
         if (round + 1 < options.refine_rounds) remember(links, known, seen);
         out.refine_seconds += since_start() - round_start;
         // A round before the last only gives the oracle its B: a few parts in a thousand do
