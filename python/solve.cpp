@@ -15,6 +15,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "mesh/errors.h"
 #include "mesh/input_error.h"
 #include "python/arguments.h"
 #include "python/arrays.h"
@@ -85,6 +86,11 @@ std::shared_ptr<SolutionData> run(const std::shared_ptr<SceneData>& s, const Sol
         job.report({"solve", p.step, p.max_steps, p.unshot_fraction, p.tolerance, p.seconds});
     };
     hooks.items = [&job](const char* stage, std::size_t d, std::size_t t) { job.report_items(stage, d, t); };
+    // A cancelled job's result is dropped (job.h), so an interrupted solution is not finished
+    // (the hierarchical solver's element mesh, for one): the work ends at the stage that saw it.
+    hooks.stage_end = [&job] {
+        if (job.cancel) throw Interrupted("interrupted");
+    };
     SolvedScene solved;
     job.run([&] { solved = solve_scene(s->scene, r, hooks); }, progress);
     auto out = std::make_shared<SolutionData>();

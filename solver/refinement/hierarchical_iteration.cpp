@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 
@@ -47,7 +48,8 @@ struct AxisWeights {
 class LinkIteration {
 public:
     LinkIteration(const LinkSystem& system, const HierarchyRadiosity& x)
-        : m_tree(system.tree),
+        : m_cancel(system.options.cancel),
+          m_tree(system.tree),
           m_G(system.tree.geometry()),
           m_clusters(system.clusters),
           m_C(system.clusters ? system.clusters->clusters() : m_no_clusters),
@@ -101,6 +103,7 @@ private:
         double F;
     };
     void lay_out(const std::vector<HierarchicalLink>& links);
+    bool cancelled() const { return m_cancel && m_cancel->load(std::memory_order_relaxed); }
 
     std::size_t slot(std::uint32_t ref) const {
         return ClusterTree::is_cluster(ref) ? m_n + ClusterTree::index(ref) : std::size_t(ref);
@@ -123,6 +126,9 @@ private:
     }
 
     const std::vector<ClusterTree::Cluster> m_no_clusters;
+    // Set: lay_out() and gather() stop at the next link or receiver, and run() before it
+    // applies a partial gather.
+    const std::atomic<bool>* m_cancel;
     const ElementTree& m_tree;
     const std::vector<Patch>& m_G;
     const ClusterTree* m_clusters;
@@ -143,15 +149,18 @@ private:
 void LinkIteration::lay_out(const std::vector<HierarchicalLink>& links) {
     const std::size_t n = m_n, nc = m_nc;
     m_incoming_first.assign(n + nc + 1, 0);
-    for (const HierarchicalLink& l : links)
+    for (const HierarchicalLink& l : links) {
+        if (cancelled()) return;
         if (l.fab != 0.0f) {
             ++m_incoming_first[slot(l.a) + 1];
             ++m_incoming_first[slot(l.b) + 1];
         }
+    }
     for (std::size_t r = 0; r < n + nc; ++r) m_incoming_first[r + 1] += m_incoming_first[r];
     m_incoming.resize(m_incoming_first[n + nc]);
     std::vector<std::size_t> fill(m_incoming_first.begin(), m_incoming_first.end() - 1);
     for (const HierarchicalLink& l : links) {
+        if (cancelled()) return;
         if (l.fab == 0.0f) continue;
         const std::size_t sa = slot(l.a), sb = slot(l.b);
         const bool clustered = m_oriented && (sa >= n || sb >= n);
@@ -170,6 +179,10 @@ void LinkIteration::run(const HierarchicalOptions& options, double tolerance, co
             break;
         }
         gather();
+        if (cancelled()) {
+            res.status = SolveStatus::interrupted;
+            break;
+        }
         push();
         pull();
         const bool done = settled(tolerance);
@@ -197,7 +210,7 @@ void LinkIteration::gather() {
     static constexpr std::array<double, 6> kNone{};
     const std::size_t n = m_n;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n + m_nc, 512), [&](const auto& range) {
-        for (std::size_t r = range.begin(); r != range.end(); ++r) {
+        for (std::size_t r = range.begin(); r != range.end() && !cancelled(); ++r) {
             Rgb sum;
             Rgb* bins = m_oriented && r >= n ? &m_bin_power[6 * (r - n)] : nullptr;
             if (bins) std::fill(bins, bins + 6, Rgb());
@@ -352,7 +365,10 @@ void finish_result(const HierarchyRadiosity& x, HierarchicalSolution& out) {
     // cluster links.
     const auto& G = tree.geometry();
     std::vector<Rgb> by_elements(tree.size());
-    for (const HierarchicalLink& l : out.links) {
+    // With no sweep (interrupted first) nothing was gathered: H is 0, and so is the rest.
+    const std::size_t gathered_links = res.steps > 0 ? out.links.size() : 0;
+    for (std::size_t k = 0; k < gathered_links; ++k) {
+        const HierarchicalLink& l = out.links[k];
         if (!l.between_elements()) continue;
         by_elements[l.a] += B[l.b] * double(l.fab);
         by_elements[l.b] += B[l.a] * (double(l.fab) * G[l.a].area / G[l.b].area);

@@ -110,6 +110,7 @@ std::vector<Link> refine(const Rounds& r, ElementTree& tree, HierarchyRadiosity&
     } else {
         // Every pair of patches, a patch's pairs at a time (not N^2 / 2 pairs at once).
         for (std::uint32_t p = 0; p < patches.size(); ++p) {
+            if (options.cancel && options.cancel->load()) break;
             std::vector<Refiner::Pair> pairs;
             for (std::uint32_t q = p + 1; q < patches.size(); ++q) pairs.push_back({p, q});
             refiner.run(std::move(pairs));
@@ -126,6 +127,9 @@ std::size_t link_form_factors(const Rounds& r, const ElementTree& tree, const Kn
     std::atomic<std::size_t> done{0}, reused{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, links.size(), 256), [&](const auto& range) {
         for (std::size_t k = range.begin(); k != range.end(); ++k) {
+            // Cancelled: the links left keep form factor 0, and the iteration that follows
+            // stops before its first sweep.
+            if (options.cancel && options.cancel->load(std::memory_order_relaxed)) return;
             const Link& l = links[k];
             const auto it = std::lower_bound(known.begin(), known.end(), std::pair(key(l), -1.0f));
             if (it != known.end() && it->first == key(l)) {
@@ -203,6 +207,14 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         if (options.progress) options.progress(stage + ": refining links", 0, 1);
         links = refine(rounds, tree, x, seen);
         out.reused_links += link_form_factors(rounds, tree, known, stage, links);
+        if (options.cancel && options.cancel->load()) {
+            // Stopped before this round's iteration, whose setup alone walks every link: B
+            // stays the estimate refinement used, and nothing is gathered.
+            x.H.assign(x.B.size(), Rgb());
+            res.status = SolveStatus::interrupted;
+            res.converged = false;
+            break;
+        }
         if (round + 1 < options.refine_rounds) remember(links, known, seen);
         out.refine_seconds += since_start() - round_start;
         // A round before the last only gives the oracle its B: a few parts in a thousand do

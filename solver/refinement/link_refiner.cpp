@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "solver/refinement/link_refiner.h"
 
+#include <atomic>
+
 #include <tbb/parallel_for.h>
 
 namespace bounce::hierarchical {
@@ -31,14 +33,20 @@ void Refiner::run(std::vector<Pair> pairs) {
     std::vector<std::uint32_t> first;           // per pair split at an element: that element's first child
     std::vector<std::size_t> at_next, at_link;  // per pair: where its outputs go
     std::vector<Pair> next;
+    // Cancelling stops every thread at its next pair (a block can hold a large share of a
+    // generation): the generation being judged is left unlinked.
+    const std::atomic<bool>* cancel = m_options.cancel;
+    auto cancelled = [cancel] { return cancel && cancel->load(std::memory_order_relaxed); };
     while (!pairs.empty()) {
         const std::size_t n = pairs.size();
         steps.resize(n);
         visible.assign(n, -1.0f);
         shaft.assign(n, HierarchicalLink::kShaftUntested);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& r) {
-            for (std::size_t k = r.begin(); k != r.end(); ++k) steps[k] = decide(pairs[k], visible[k], shaft[k]);
+            for (std::size_t k = r.begin(); k != r.end() && !cancelled(); ++k)
+                steps[k] = decide(pairs[k], visible[k], shaft[k]);
         });
+        if (cancelled()) return;
         first.resize(n);
         at_next.resize(n + 1);
         at_link.resize(n + 1);
