@@ -18,6 +18,7 @@
 #include "mesh/patch_mesh.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/solver.h"
+#include "solver/pipeline/quality.h"
 #include "solver/pipeline/solve_scene.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "viewer/paraview_script.h"
@@ -30,6 +31,7 @@ namespace {
 
 struct SolveCommand {
     std::string output;
+    std::string quality;  // a preset (quality.h); "": none
     std::string solver = "shooting";
     SolverOptions options;
     std::string method = "raycast";
@@ -54,6 +56,9 @@ struct SolveCommand {
     double display_tolerance = 0.0;   // hierarchical: display refinement of the point data, 0: off
     // The options whose being given matters (SolveRequest's optional fields), by key.
     std::vector<std::pair<std::string, const CLI::Option*>> given;
+
+    /// A meshing was asked for, which a preset's patch count yields to.
+    bool meshing_given() const { return was_given("patches") || was_given("max-area") || was_given("max-edge"); }
 
     bool was_given(const std::string& key) const {
         for (const auto& [k, option] : given)
@@ -91,6 +96,8 @@ SolveRequest request_of(const CommonOptions& o, const SolveCommand& s) {
     r.balance = !s.no_balance;
     r.gather = parse_gather_mode(s.gather);
     if (s.was_given("display-tolerance")) r.display_tolerance = s.display_tolerance;
+    if (!s.quality.empty()) r.quality = parse_quality(s.quality);
+    apply_quality(r, s.meshing_given());
     return r;
 }
 
@@ -239,7 +246,14 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
     auto solve = std::make_shared<SolveCommand>();
     auto* solve_cmd = app.add_subcommand("solve", "compute radiosity and write a .vtu");
     add_meshing_options(solve_cmd, common);
+    for (const char* key : {"patches", "max-area", "max-edge"})
+        solve->given.emplace_back(key, solve_cmd->get_option(std::string("--") + key));
     solve_cmd->add_option("-o,--output", solve->output, "output .vtu (default: <scene>.vtu)");
+    solve_cmd->add_option("--quality", solve->quality,
+                          "a preset of the patch count and display cells, measured on the scenes with path-traced "
+                          "references: draft (" +
+                              quality_preset(Quality::draft).flags + "), default (the defaults) or fine (" +
+                              quality_preset(Quality::fine).flags + "); options given beside it win");
     solve_cmd->add_option("--solver", solve->solver, "shooting, gauss-seidel, jacobi, direct or hierarchical")
         ->check(CLI::IsMember(solver_kind_names()));
     solve_cmd

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include <pybind11/stl.h>
@@ -18,10 +19,10 @@
 namespace bounce::python {
 namespace {
 
-std::shared_ptr<SceneData> load(const std::filesystem::path& scene_path, std::int64_t patches, double max_area,
-                                double max_edge, bool subdivide, bool contact_cuts, bool flip, bool strict,
-                                const std::string& visibility) {
-    check_range("patches", double(patches), 1, 1e8);
+std::shared_ptr<SceneData> load(const std::filesystem::path& scene_path, std::optional<std::int64_t> patches,
+                                double max_area, double max_edge, bool subdivide, bool contact_cuts, bool flip,
+                                bool strict, const std::string& visibility) {
+    if (patches) check_range("patches", double(*patches), 1, 1e8);
     if (max_area != 0) check_positive("max_area", max_area);
     if (max_edge != 0) check_positive("max_edge", max_edge);
     check_member("visibility", visibility, visibility_backends());
@@ -31,7 +32,8 @@ std::shared_ptr<SceneData> load(const std::filesystem::path& scene_path, std::in
     d->visibility = visibility;
     d->flip = flip;
     MeshingOptions& m = d->meshing;
-    m.target_patches = std::size_t(patches);
+    if (patches) m.target_patches = std::size_t(*patches);
+    d->meshing_given = patches || max_area != 0 || max_edge != 0;
     m.max_area = max_area;
     m.max_edge = max_edge;
     m.subdivide = subdivide;
@@ -175,7 +177,7 @@ void bind_scene(py::module_& m) {
             return "<bounce.Scene '" + s.spec + "': " + std::to_string(s.scene.surfaces.size()) + " surfaces, " +
                    std::to_string(s.mesh->size()) + " patches>";
         });
-    m.def("load", &load, py::arg("scene") = "cornell", py::kw_only(), py::arg("patches") = 2000,
+    m.def("load", &load, py::arg("scene") = "cornell", py::kw_only(), py::arg("patches") = py::none(),
           py::arg("max_area") = 0.0, py::arg("max_edge") = 0.0, py::arg("subdivide") = true,
           py::arg("contact_cuts") = true, py::arg("flip") = false, py::arg("strict") = false,
           py::arg("visibility") = visibility_backends().front(),

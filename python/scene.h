@@ -18,8 +18,9 @@ namespace py = pybind11;
 struct SceneData {
     std::string spec;
     Scene scene;
-    MeshingOptions meshing;  // what `mesh` was made with
-    bool flip = false;       // every face turned round on loading
+    MeshingOptions meshing;      // what `mesh` was made with
+    bool meshing_given = false;  // patches, max_area or max_edge given to load() (a preset then yields)
+    bool flip = false;           // every face turned round on loading
     std::shared_ptr<const PatchMesh> mesh;
     std::string visibility;
 };

@@ -22,6 +22,7 @@
 #include "python/bindings.h"
 #include "python/job.h"
 #include "python/scene.h"
+#include "solver/pipeline/quality.h"
 #include "solver/pipeline/solve_scene.h"
 #include "viewer/pending_output.h"
 #include "viewer/renderer.h"
@@ -114,7 +115,7 @@ std::shared_ptr<SolutionData> solve(
     std::size_t max_matrix_mb, const std::string& gather, bool residuals, const Reference& reference, bool adaptive,
     const py::object& target_error, const py::object& max_patches, double link_epsilon,
     std::optional<double> power_epsilon, int refine_rounds, int max_level, bool clustering,
-    std::optional<double> display_tolerance, const py::object& progress) {
+    std::optional<double> display_tolerance, const std::optional<std::string>& quality, const py::object& progress) {
     const OptionNames names = OptionNames::python();
     SolveRequest r;
     r.meshing = s->meshing;
@@ -141,6 +142,8 @@ std::shared_ptr<SolutionData> solve(
     r.gather = parse_gather_mode(gather, names);
     set_refinement(r, target_error, max_patches, link_epsilon, power_epsilon, refine_rounds, max_level, clustering,
                    display_tolerance);
+    if (quality) r.quality = parse_quality(*quality, names);
+    apply_quality(r, s->meshing_given);
     if (reference) r.reference = std::vector<Rgb>();  // validated before it is read
     r.validate(names);
     if (reference) r.reference = reference_values(*reference, s->mesh->size());
@@ -297,14 +300,16 @@ void bind_solve(py::module_& m) {
           py::arg("target_error") = py::none(), py::arg("max_patches") = py::none(), py::arg("link_epsilon") = 0.1,
           py::arg("power_epsilon") = py::none(), py::arg("refine_rounds") = HierarchicalOptions{}.refine_rounds,
           py::arg("max_level") = 4, py::arg("clustering") = true, py::arg("display_tolerance") = py::none(),
-          py::arg("progress") = py::none(),
+          py::arg("quality") = py::none(), py::arg("progress") = py::none(),
           "Radiosity of the scene, as `bounce solve` computes it with the same options (the keywords are its "
           "flags: solver shooting, gauss-seidel, jacobi, direct or hierarchical; form_factors raycast, exact, "
           "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive, the hierarchical "
           "solver with power_epsilon 1e-5 unless given; target_error and max_patches are retired and refused; "
           "display_tolerance above 0 splits cells for display where linear interpolation of the point data would "
           "miss the gathered light (the solution is then over the display cells, each patch's power kept): 0.02 "
-          "for the patch solvers, 0.0025 with adaptive, 0 for hierarchical, unless given). "
+          "for the patch solvers, 0.0025 with adaptive, 0 for hierarchical, unless given; quality draft, default "
+          "or fine, the presets of --quality: the patch count (unless load() was given patches, max_area or "
+          "max_edge; the scene is then cut anew) and display cells, unless given). "
           "Unset, tolerance is 1e-3 (shooting: the largest relative error of a patch that the light still unshot "
           "would add, as estimated from the convergence; hierarchical: 1e-6, the largest change of an element per "
           "iteration relative to the mean), max_iterations none for shooting (it stops as stalled when the unshot "

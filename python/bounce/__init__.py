@@ -41,11 +41,12 @@ __all__ = [
 ]
 
 
-def load(scene="cornell", *, patches=2000, max_area=0.0, max_edge=0.0, subdivide=True,
+def load(scene="cornell", *, patches=None, max_area=0.0, max_edge=0.0, subdivide=True,
          contact_cuts=True, flip=False, strict=False, visibility=None, quiet=False):
     """Loads a scene ("cornell", a .obj, .json, .ply or .off path) and cuts it into patches.
 
-    patches: about this many when neither max_area nor max_edge (scene units) is given.
+    patches: about this many (2000 unless given) when neither max_area nor max_edge (scene units)
+    is given; with none of the three, solve(..., quality=) cuts the scene at its preset's count.
     contact_cuts: leave out what no light reaches (a floor under a block). flip: turn every
     face round. strict: a repaired input problem is an error. The repairs are issued as Python
     warnings unless quiet (they stay in ``scene.warnings``).

@@ -77,10 +77,12 @@ std::vector<std::string> solver_kind_names() {
 }
 std::vector<std::string> form_factor_method_names() { return {"raycast", "exact", "hemicube", "analytic"}; }
 std::vector<std::string> gather_mode_names() { return {"vertices", "centres", "none"}; }
+std::vector<std::string> quality_names() { return {"draft", "default", "fine"}; }
 
 std::string to_string(SolverKind s) { return name_of(s, solver_kind_names()); }
 std::string to_string(FormFactorMethod m) { return name_of(m, form_factor_method_names()); }
 std::string to_string(GatherMode g) { return name_of(g, gather_mode_names()); }
+std::string to_string(Quality q) { return name_of(q, quality_names()); }
 
 std::string OptionNames::operator()(std::string_view key) const {
     std::string name(key);
@@ -99,6 +101,10 @@ FormFactorMethod parse_form_factor_method(const std::string& name, const OptionN
 
 GatherMode parse_gather_mode(const std::string& name, const OptionNames& names) {
     return parse<GatherMode>(name, gather_mode_names(), names("gather"));
+}
+
+Quality parse_quality(const std::string& name, const OptionNames& names) {
+    return parse<Quality>(name, quality_names(), names("quality"));
 }
 
 bool same_meshing(const MeshingOptions& a, const MeshingOptions& b) {
@@ -125,6 +131,10 @@ void SolveRequest::validate(const OptionNames& names) const {
     if (display_tolerance.value_or(0.0) > 0 && gather != GatherMode::vertices)
         throw InputError(names("display-tolerance") + " refines the point data gathered at the vertices: it needs " +
                          names("gather") + " vertices (got " + to_string(gather) + ")");
+    if (refines() && quality.value_or(Quality::standard) != Quality::standard)
+        throw InputError(names("quality") + " " + to_string(*quality) +
+                         " sets the patch solvers' patches and display cells: it does not combine with " +
+                         names("adaptive") + " or hierarchical");
     if (refines()) return check_refining(*this, names);
     if (display_tolerance && (element_split > 1 || series.value_or(0) > 0))
         throw InputError(names("display-tolerance") + " does not combine with " + names("elements") + " or " +

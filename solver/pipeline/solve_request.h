@@ -25,16 +25,20 @@ enum class SolverKind { shooting, gauss_seidel, jacobi, direct, hierarchical };
 enum class FormFactorMethod { raycast, exact, hemicube, analytic };
 /// The point data: gathered at the vertices, also at the patch centres, or averaged (none).
 enum class GatherMode { vertices, centres, none };
+/// The presets of quality.h, named "draft", "default" (standard: what no preset gives) and "fine".
+enum class Quality { draft, standard, fine };
 
 /// The names the options take ("gauss-seidel", "raycast", "vertices"): those of solver_names()
 /// (and "hierarchical"), form_factor_methods() and gather_modes().
 std::string to_string(SolverKind s);
 std::string to_string(FormFactorMethod m);
 std::string to_string(GatherMode g);
+std::string to_string(Quality q);
 /// Every name of each enum, in the order of its values.
 std::vector<std::string> solver_kind_names();
 std::vector<std::string> form_factor_method_names();
 std::vector<std::string> gather_mode_names();
+std::vector<std::string> quality_names();
 
 /// How a front end spells an option in its messages. Keys are the command line's flag without
 /// its dashes ("display-tolerance"): the command line prints "--display-tolerance", Python the
@@ -49,6 +53,7 @@ struct OptionNames {
 SolverKind parse_solver_kind(const std::string& name, const OptionNames& names = {});
 FormFactorMethod parse_form_factor_method(const std::string& name, const OptionNames& names = {});
 GatherMode parse_gather_mode(const std::string& name, const OptionNames& names = {});
+Quality parse_quality(const std::string& name, const OptionNames& names = {});
 
 /// The patches the hierarchical solver starts from when the meshing is the default one: it
 /// refines where the light needs it, so it starts coarse.
@@ -65,6 +70,10 @@ bool default_meshing(const MeshingOptions& m);
 /// changes what happens (the hierarchical solver takes a given tolerance; the patch solvers'
 /// own options are refused by it).
 struct SolveRequest {
+    /// The preset the request was filled from (apply_quality, quality.h); the settings name it
+    /// unless it is the standard one.
+    std::optional<Quality> quality;
+
     // The patches.
     MeshingOptions meshing;  // as loaded; the hierarchical solver may start coarser
     int element_split = 1;   // shooting: K x K receiving elements per patch

@@ -204,7 +204,8 @@ std::string patch_settings(const SolveRequest& r, const SolverOptions& so, bool 
       << " receiver_samples=" << r.form_factors.receiver_samples
       << " hemicube_res=" << r.form_factors.hemicube_resolution << " seed=" << r.form_factors.seed
       << " tolerance=" << so.tolerance << (so.open_parts ? " open_parts=1" : "") << (balanced ? " balanced=1" : "")
-      << (r.flip ? " flip=1" : "");
+      << (r.flip ? " flip=1" : "")
+      << (r.quality.value_or(Quality::standard) != Quality::standard ? " quality=" + to_string(*r.quality) : "");
     return s.str();
 }
 

@@ -35,9 +35,11 @@ FURNACE = ('{"name": "furnace", "materials": {"glow": {"reflectance": 0.9, "emis
         # The default meshing: both start the hierarchy from the same coarse roots.
         ({}, {"solver": "hierarchical", "max_level": 2}, ["--solver", "hierarchical", "--max-level", 2]),
         ({}, {"adaptive": True, "max_level": 2}, ["--adaptive", "--max-level", 2]),
+        # A preset: load()'s scene is cut anew at the preset's patch count, as the flag cuts it.
+        ({}, {"quality": "draft"}, ["--quality", "draft"]),
     ],
     ids=["shooting", "gauss-seidel-centres", "direct", "hierarchical-default-meshing",
-         "adaptive-default-meshing"],
+         "adaptive-default-meshing", "draft-preset"],
 )
 def test_same_request_same_bits(tmp_path, run_cli, load_options, py_options, cli_options):
     out = tmp_path / "cli.vtu"
@@ -128,3 +130,20 @@ def test_a_flipped_scene_warns_of_its_winding_in_both(tmp_path, run_cli):
     assert [str(w.message) for w in caught] == list(sol.warnings)
     assert sol.settings.endswith(" flip=1"), sol.settings
     assert sol.settings == text_field(meshio.read(out), "settings")
+
+
+def test_a_preset_yields_to_the_meshing_given_to_load_and_names_itself():
+    # Draft is 1000 patches and display cells: a patch count given to load() wins, and the
+    # settings name the preset; the default preset is no preset at all.
+    given = bounce.solve(bounce.load("cornell", patches=100), quality="draft", gather="none")
+    plain = bounce.solve(bounce.load("cornell", patches=100), gather="none")
+    assert given.settings == plain.settings + " quality=draft", given.settings
+    assert np.array_equal(given.radiosity, plain.radiosity)
+    draft = bounce.solve(bounce.load("cornell"), quality="draft", gather="none")
+    assert draft.settings.startswith("patches=1131 "), draft.settings
+    default = bounce.solve(bounce.load("cornell", patches=100), quality="default", gather="none")
+    assert default.settings == plain.settings and np.array_equal(default.radiosity, plain.radiosity)
+    with pytest.raises(ValueError, match=r"^quality: unknown, got 'best' \(expected one of draft, default, fine\)$"):
+        bounce.solve(bounce.load("cornell", patches=100), quality="best")
+    with pytest.raises(ValueError, match=r"^quality fine sets the patch solvers' patches"):
+        bounce.solve(bounce.load("cornell"), quality="fine", adaptive=True)
