@@ -156,8 +156,9 @@ TEST(Quality, DraftIsFurtherFromLambertsFormulaThanFine) {
         MeshingOptions m;
         m.target_patches = quality_preset(q).patches;
         EXPECT_EQ(s.patches, PatchMesh(scene, m).size());
-        if (q != Quality::standard)
+        if (q != Quality::standard) {
             EXPECT_NE(s.settings.find(" quality=" + to_string(q)), std::string::npos) << s.settings;
+        }
         errors.push_back(floor_point_data_error(s));
         std::printf("%s: %zu patches, %zu cells, point data RMS %.3g%% at the floor cells' centres\n",
                     to_string(q).c_str(), s.patches, s.mesh->size(), 100 * errors.back());
