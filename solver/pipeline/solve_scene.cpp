@@ -180,6 +180,21 @@ SolvedScene solve_refining(const Scene& scene, const SolveRequest& r, const Solv
     return out;
 }
 
+/// The whole matrix, or, for shooting that builds it only to balance its rows, nothing when
+/// interrupted: shooting then returns its starting state marked interrupted, as when it is
+/// interrupted before its first shot.
+std::optional<FormFactorMatrix> build_matrix(const FormFactorEstimator& ff, std::size_t n, std::size_t limit,
+                                             const SolveHooks& hooks, bool shooting) {
+    try {
+        FormFactorMatrix m = FormFactorMatrix::build(ff, n, limit, hooks.rows, hooks.cancel);
+        stage_end(hooks);
+        return m;
+    } catch (const Interrupted&) {
+        if (!shooting) throw;
+        return std::nullopt;
+    }
+}
+
 SolverOptions solver_options(const SolveRequest& r, const SolveHooks& hooks) {
     SolverOptions so;
     if (r.tolerance) so.tolerance = *r.tolerance;
@@ -249,16 +264,15 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
     std::unique_ptr<MatrixFormFactor> balanced_rows;
     if (!shooting || r.residuals || balance) {
         const std::size_t limit = (shooting && !r.residuals ? so.cache_mb : r.max_matrix_mb) << 20;
-        matrix = FormFactorMatrix::build(*ff, P.size(), limit, hooks.rows, hooks.cancel);
-        stage_end(hooks);
-        out.form_factor_seconds = matrix->seconds();
-        if (balance) {
+        matrix = build_matrix(*ff, P.size(), limit, hooks, shooting);
+        if (matrix) out.form_factor_seconds = matrix->seconds();
+        if (balance && matrix) {
             const auto balance_start = Clock::now();
             matrix = balance_form_factors(std::move(*matrix), P, *open);
             out.form_factor_seconds += seconds_since(balance_start);
         }
-        check_rows(P, *matrix, out.warnings);
-        if (shooting && balance) {
+        if (matrix && (!shooting || r.residuals)) check_rows(P, *matrix, out.warnings);
+        if (shooting && matrix && balance) {
             // Shooting reads the balanced rows from the matrix, so keeps no cache of its own.
             if (r.residuals)
                 balanced = *matrix;
@@ -274,7 +288,7 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
     const std::vector<Patch> solved_patches = open && !shooting ? open_part_patches(P, *open) : std::vector<Patch>{};
     if (open) so.open_parts = &*open;
     out.patches = elements ? shooters->size() : mesh->size();
-    out.settings = patch_settings(r, so, balance, out.patches, *mesh);
+    out.settings = patch_settings(r, so, balance && (!shooting || balanced_rows), out.patches, *mesh);
     if (r.series.value_or(0) > 0 && hooks.snapshot) {
         so.snapshot_every = *r.series;
         so.snapshot = [&](const SolveResult& so_far) {

@@ -63,8 +63,10 @@ def test_keyboard_interrupt_stops_a_long_solve(big_scene, how, solver, stage):
     thread.join()
     assert sent, "the solve ended before the interrupt was sent"
     assert stopped - sent[0] < 1.0, f"stopped {stopped - sent[0]:.2f} s after the signal"
-    # The work was still at the stage when the signal came.
-    assert all(c.stage == stage for c in calls)
+    # The work was still at the stage when the signal came (shooting reports its balanced
+    # rows' "form factors" first).
+    first = next(k for k, c in enumerate(calls) if c.stage == stage)
+    assert all(c.stage == stage for c in calls[first:])
     if stage == "solve":
         assert calls and calls[-1].step > 0
     # Nothing is left running: the next call works at once.

@@ -79,7 +79,8 @@ def test_solution_is_consistent(scene):
     assert len(h["step"]) > 0 and np.all(np.diff(h["step"].astype(np.int64)) > 0)
     assert h["unshot_fraction"][-1] == pytest.approx(sol.unshot_fraction)
     assert sol.unshot_fraction < 1e-4
-    assert sol.form_factor_seconds == 0 and np.all(h["residual"] == -1)
+    # Shooting builds its balanced rows first (their time is the form factors'); no residuals.
+    assert sol.form_factor_seconds > 0 and np.all(h["residual"] == -1)
 
 
 @pytest.mark.parametrize("gather", ["vertices", "none"])
