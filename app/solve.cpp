@@ -346,9 +346,7 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
                         "patch solvers: solve on whole patches, not on their parts open to the scene (a patch "
                         "partly under another object then loses the light its buried part sends, and rows keep "
                         "their sampling error)");
-    solve_cmd->add_flag("--no-balance", solve->no_balance,
-                        "patch solvers: keep the form-factor rows as sampled (each closed part's shot scaled to "
-                        "its open share) instead of making them reciprocal and summing to it");
+    solve_cmd->add_flag("--no-balance", solve->no_balance, "patch solvers: form-factor rows as sampled, not balanced");
     solve_cmd->add_flag("--ascii", solve->ascii, "write ASCII instead of compressed binary");
     solve_cmd->add_flag("--paraview", solve->paraview,
                         "also write OUT_paraview.py beside OUT.vtu: a ParaView script (pvpython, or the GUI's "
