@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "mesh/contact_cuts.h"
+#include "mesh/coordinate_grid.h"
 #include "mesh/cornell_box.h"
 #include "mesh/geometry_check.h"
 #include "mesh/input_error.h"
@@ -40,6 +41,7 @@ Scene read_scene(const std::string& spec) {
         }
     }
     scene.validate();
+    snap_coordinates(scene);
     check_geometry(scene, spec);
     return scene;
 }
