@@ -9,8 +9,8 @@
 #include <sstream>
 #include <thread>
 
-#include "mesh/input_error.h"
-#include "mesh/scene_loader.h"
+#include "mesh/readers/scene_loader.h"
+#include "mesh/scene/input_error.h"
 #include "solver/form_factors/form_factor_matrix.h"
 
 namespace bounce::app {

@@ -9,8 +9,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/scene.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/solve_result.h"
 #include "solver/pipeline/solve_request.h"

@@ -12,7 +12,7 @@
 #include "app/command.h"
 #include "app/progress_line.h"
 #include "app/signals.h"
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/form_factors/exact_form_factor.h"
 #include "solver/form_factors/form_factor_check.h"
 #include "solver/form_factors/form_factor_estimator.h"

@@ -14,8 +14,8 @@
 #include "app/command.h"
 #include "app/progress_line.h"
 #include "app/signals.h"
-#include "mesh/patch_mesh.h"
-#include "mesh/polygon.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/polygon.h"
 #include "solver/form_factors/form_factor_check.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/visibility/shaft_culler.h"
@@ -59,7 +59,7 @@ int run_info(const CommonOptions& o, const InfoCommand& c) {
     // and patches.
     std::vector<std::size_t> patches(scene.surfaces.size(), 0);
     for (const auto& p : mesh.patches()) ++patches[std::size_t(p.surface)];
-    // Contact cuts (mesh/contact_cuts.h): the area no light reaches, left out of the patches.
+    // Contact cuts (mesh/geometry/contact_cuts.h): the area no light reaches, left out of the patches.
     std::vector<double> removed(scene.surfaces.size(), 0.0);
     if (o.meshing.cut_contacts)
         for (const auto& c : scene.covered) removed[std::size_t(c.surface)] += polygon_area(c.polygon);

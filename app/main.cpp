@@ -18,7 +18,7 @@
 
 #include "app/command.h"
 #include "app/signals.h"
-#include "mesh/errors.h"
+#include "mesh/scene/errors.h"
 #include "viewer/version.h"
 
 int main(int argc, char** argv) {
@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
         for (const Command& c : commands)
             if (*c.cli) return c.run();
         return 2;                           // unreachable: require_subcommand(1)
-    } catch (const bounce::UserError& e) {  // bad input, a limit, no solution (mesh/errors.h)
+    } catch (const bounce::UserError& e) {  // bad input, a limit, no solution (mesh/scene/errors.h)
         std::cerr << "bounce: error: " << e.what() << "\n";
         return 2;
     } catch (const bounce::Interrupted& e) {

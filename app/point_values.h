@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/gather/hierarchical_point_values.h"
 #include "solver/gather/point_values.h"
 #include "solver/linear/solve_result.h"

@@ -14,8 +14,8 @@
 #include "app/reference_image.h"
 #include "app/reference_points.h"
 #include "app/signals.h"
-#include "mesh/input_error.h"
-#include "mesh/scene_loader.h"
+#include "mesh/readers/scene_loader.h"
+#include "mesh/scene/input_error.h"
 #include "viewer/pending_output.h"
 
 namespace bounce::app {

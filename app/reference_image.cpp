@@ -12,9 +12,9 @@
 
 #include "app/progress_line.h"
 #include "app/signals.h"
-#include "mesh/input_error.h"
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/scene_loader.h"
+#include "mesh/scene/input_error.h"
 #include "solver/reference/path_tracer.h"
 #include "viewer/exr_writer.h"
 #include "viewer/eye_picture.h"

@@ -9,7 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "app/common_options.h"
-#include "mesh/scene.h"
+#include "mesh/scene/scene.h"
 #include "solver/two_pass/eye_pass.h"
 #include "viewer/renderer.h"
 

@@ -9,7 +9,7 @@
 
 #include "app/progress_line.h"
 #include "app/signals.h"
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 #include "solver/form_factors/form_factor_matrix.h"  // Interrupted
 #include "viewer/pending_output.h"
 

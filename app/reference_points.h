@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/scene.h"
+#include "mesh/scene/scene.h"
 #include "solver/reference/path_tracer.h"
 #include "solver/reference/probe_classes.h"
 #include "solver/reference/reference_csv.h"

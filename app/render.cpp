@@ -9,9 +9,9 @@
 
 #include "app/command.h"
 #include "app/signals.h"
-#include "mesh/errors.h"
-#include "mesh/input_error.h"
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/errors.h"
+#include "mesh/scene/input_error.h"
 #include "solver/pipeline/solve_scene.h"
 #include "viewer/exr_writer.h"
 

@@ -6,7 +6,7 @@
 #include <tbb/global_control.h>
 
 #include "bench/bench_scene.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/surface_form_factor.h"

@@ -6,9 +6,9 @@
 
 #include <tbb/global_control.h>
 
-#include "mesh/cornell_box.h"
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/cornell_box.h"
+#include "mesh/readers/scene_loader.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/gather/final_gather.h"
 #include "solver/gather/point_values.h"

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/scene_loader.h"
 
 namespace bounce::bench {
 

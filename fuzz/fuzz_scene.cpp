@@ -8,11 +8,11 @@
 #include <fstream>
 #include <string>
 
-#include "mesh/geometry_check.h"
-#include "mesh/input_error.h"
-#include "mesh/json_scene.h"
-#include "mesh/obj_reader.h"
-#include "mesh/patch_mesh.h"
+#include "mesh/geometry/geometry_check.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/json_scene.h"
+#include "mesh/readers/obj_reader.h"
+#include "mesh/scene/input_error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static const std::string path = "/tmp/bounce-fuzz-" + std::to_string(::getpid()) + BOUNCE_FUZZ_EXT;

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 
 namespace bounce::python {
 

@@ -10,7 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 #include "python/arguments.h"
 #include "python/arrays.h"
 #include "python/bindings.h"

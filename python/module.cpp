@@ -9,7 +9,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "mesh/errors.h"
+#include "mesh/scene/errors.h"
 #include "python/bindings.h"
 #include "python/job.h"
 #include "python/scene.h"

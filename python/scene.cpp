@@ -10,7 +10,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
-#include "mesh/scene_loader.h"
+#include "mesh/readers/scene_loader.h"
 #include "python/arguments.h"
 #include "python/arrays.h"
 #include "python/job.h"

@@ -7,8 +7,8 @@
 
 #include <pybind11/pybind11.h>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/scene.h"
 
 namespace bounce::python {
 

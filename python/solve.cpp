@@ -15,8 +15,8 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
-#include "mesh/errors.h"
-#include "mesh/input_error.h"
+#include "mesh/scene/errors.h"
+#include "mesh/scene/input_error.h"
 #include "python/arguments.h"
 #include "python/arrays.h"
 #include "python/bindings.h"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fails when a folder includes from a folder further along the data flow
 # (mesh -> solver -> viewer -> app and python, the two front ends, which never include each
-# other), when a solver room includes from a room further along
+# other), when a mesh room includes from a room further along (scene -> geometry -> readers,
+# meshing), when a solver room includes from a room further along
 # (optics -> visibility -> form_factors -> linear -> refinement -> gather -> reference -> two_pass
 # -> pipeline), or when solver/ or mesh/ mention VTK.
 set -u
@@ -17,6 +18,19 @@ check solver 'viewer/|app/|python/|vtk'
 check viewer 'app/|python/'
 check app    'python/'
 check python 'app/'
+
+# The mesh rooms, lowest first; readers and meshing never include each other.
+mesh_rooms=(scene geometry readers meshing)
+for ((i = 0; i < ${#mesh_rooms[@]}; i++)); do
+  higher=("${mesh_rooms[@]:i+1}")
+  ((${#higher[@]})) || continue
+  check "mesh/${mesh_rooms[i]}" "mesh/($(IFS='|'; echo "${higher[*]}"))/"
+done
+check mesh/meshing 'mesh/readers/'
+loose_mesh=$(find "$root/mesh" -maxdepth 1 -name '*.h' -o -maxdepth 1 -name '*.cpp')
+if [ -n "$loose_mesh" ]; then
+  echo "$loose_mesh"; echo "layering: mesh/ sources belong in a room (mesh/<room>/)"; bad=1
+fi
 
 # The solver's rooms, lowest first; a new room goes into this list at its place in the flow.
 rooms=(optics visibility form_factors linear refinement gather reference two_pass pipeline)

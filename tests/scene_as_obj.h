@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "mesh/scene.h"
+#include "mesh/scene/scene.h"
 #include "test_util.h"
 
 namespace bounce::test {

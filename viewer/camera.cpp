@@ -16,7 +16,7 @@
 #include <vtkPoints.h>
 #include <vtkUnstructuredGrid.h>
 
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 #include "viewer/solution_grid.h"
 
 namespace bounce {

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "mesh/rgb.h"
+#include "mesh/scene/rgb.h"
 
 namespace bounce {
 

@@ -12,7 +12,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 #include "viewer/camera.h"
 #include "viewer/exr_writer.h"
 #include "viewer/pending_output.h"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/linear/solve_result.h"
 #include "solver/two_pass/eye_pass.h"
 #include "viewer/renderer.h"

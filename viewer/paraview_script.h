@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/linear/solve_result.h"
 #include "viewer/renderer.h"
 #include "viewer/vtu_writer.h"

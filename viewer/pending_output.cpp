@@ -6,7 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 
 namespace bounce {
 namespace {

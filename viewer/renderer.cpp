@@ -29,7 +29,7 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
 
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 #include "viewer/camera.h"
 #include "viewer/display_rgb.h"
 #include "viewer/luminance_scale.h"

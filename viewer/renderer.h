@@ -5,7 +5,7 @@
 #include <functional>
 #include <string>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/linear/solve_result.h"
 #include "viewer/vtu_writer.h"
 

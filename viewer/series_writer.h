@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/linear/solve_result.h"
 #include "viewer/vtu_writer.h"
 

@@ -10,7 +10,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/linear/solve_result.h"
 #include "viewer/vtu_writer.h"
 

@@ -8,7 +8,7 @@
 #include <vtkProperty.h>
 #include <vtkThreshold.h>
 
-#include "mesh/scene.h"
+#include "mesh/scene/scene.h"
 #include "viewer/specular_cells.h"
 
 namespace bounce {

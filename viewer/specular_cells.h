@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesh/specular_faces.h"
+#include "mesh/scene/specular_faces.h"
 
 class vtkUnstructuredGrid;
 

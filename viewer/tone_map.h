@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesh/rgb.h"
+#include "mesh/scene/rgb.h"
 
 namespace bounce {
 

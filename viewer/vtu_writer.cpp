@@ -19,7 +19,7 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <vtkXMLUnstructuredGridReader.h>
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 #include "viewer/display_rgb.h"
 #include "viewer/pending_output.h"
 #include "viewer/solution_grid.h"

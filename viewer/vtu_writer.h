@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/linear/solve_result.h"
 
 namespace bounce {

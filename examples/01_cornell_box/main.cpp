@@ -3,8 +3,8 @@
 // cornell_example.vtu. Run: build/examples/example_01_cornell_box
 #include <iostream>
 
-#include "mesh/cornell_box.h"
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/cornell_box.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/visibility/visibility.h"

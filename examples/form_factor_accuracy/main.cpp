@@ -12,8 +12,8 @@
 #include <iostream>
 #include <string>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/reference_form_factors.h"
 #include "solver/form_factors/surface_form_factor.h"

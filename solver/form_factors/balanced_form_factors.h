@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "mesh/patch.h"
+#include "mesh/meshing/patch.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/open_parts.h"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/patch.h"
+#include "mesh/meshing/patch.h"
 #include "solver/form_factors/form_factor_matrix.h"
 
 namespace bounce {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/patch.h"
+#include "mesh/meshing/patch.h"
 
 namespace bounce {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/errors.h"  // Interrupted, ResourceLimitError
+#include "mesh/scene/errors.h"  // Interrupted, ResourceLimitError
 #include "solver/form_factors/form_factor_estimator.h"
 
 namespace bounce {

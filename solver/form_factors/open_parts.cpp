@@ -7,7 +7,7 @@
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
-#include "mesh/errors.h"
+#include "mesh/scene/errors.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/patch_sampling.h"
 #include "solver/visibility/visibility.h"

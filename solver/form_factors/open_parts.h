@@ -6,8 +6,8 @@
 #include <span>
 #include <vector>
 
-#include "mesh/patch.h"
-#include "mesh/scene.h"
+#include "mesh/meshing/patch.h"
+#include "mesh/scene/scene.h"
 
 namespace bounce {
 

@@ -8,7 +8,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "mesh/patch.h"
+#include "mesh/meshing/patch.h"
 
 namespace bounce {
 

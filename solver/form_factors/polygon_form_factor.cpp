@@ -9,7 +9,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "mesh/polygon.h"
+#include "mesh/scene/polygon.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
 
 namespace bounce {

@@ -6,7 +6,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "mesh/polygon.h"
+#include "mesh/scene/polygon.h"
 #include "solver/form_factors/patch_sampling.h"
 
 namespace bounce {

@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "mesh/patch.h"
+#include "mesh/meshing/patch.h"
 #include "solver/form_factors/form_factor_estimator.h"
 
 namespace bounce {

@@ -5,7 +5,7 @@
 #include <span>
 #include <vector>
 
-#include "mesh/patch.h"
+#include "mesh/meshing/patch.h"
 #include "solver/form_factors/patch_sampling.h"
 
 namespace bounce {

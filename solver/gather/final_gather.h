@@ -12,9 +12,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "mesh/patch.h"
-#include "mesh/patch_mesh.h"
-#include "mesh/rgb.h"
+#include "mesh/meshing/patch.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/rgb.h"
 #include "solver/visibility/visibility.h"
 
 namespace bounce {

@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/gather/point_values.h"
 #include "solver/linear/solve_result.h"
 #include "solver/refinement/hierarchical_radiosity.h"

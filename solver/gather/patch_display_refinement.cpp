@@ -13,7 +13,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
-#include "mesh/element_tree.h"
+#include "mesh/meshing/element_tree.h"
 #include "solver/gather/final_gather.h"
 #include "solver/gather/point_values.h"
 #include "solver/gather/point_values_by_position.h"

@@ -10,7 +10,7 @@
 #include <cstddef>
 #include <functional>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/linear/solve_result.h"
 #include "solver/visibility/visibility.h"
 

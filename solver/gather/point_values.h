@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/gather/final_gather.h"
 #include "solver/gather/patch_display_refinement.h"
 #include "solver/linear/solve_result.h"

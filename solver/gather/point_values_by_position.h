@@ -12,7 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "mesh/rgb.h"
+#include "mesh/scene/rgb.h"
 
 namespace bounce {
 

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesh/patch.h"
+#include "mesh/meshing/patch.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/open_parts.h"
 #include "solver/linear/solve_result.h"

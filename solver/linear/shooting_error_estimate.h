@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "mesh/rgb.h"
+#include "mesh/scene/rgb.h"
 
 namespace bounce {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "mesh/errors.h"  // SingularSystemError
-#include "mesh/patch.h"
+#include "mesh/meshing/patch.h"
+#include "mesh/scene/errors.h"  // SingularSystemError
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/open_parts.h"

@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "mesh/patch.h"
+#include "mesh/meshing/patch.h"
 #include "solver/linear/solve_result.h"
 
 namespace bounce {

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 #include "solver/gather/patch_display_refinement.h"
 
 namespace bounce {

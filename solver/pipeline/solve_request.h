@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/rgb.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/rgb.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"

@@ -6,8 +6,8 @@
 #include <sstream>
 #include <utility>
 
-#include "mesh/errors.h"
-#include "mesh/specular_occluders.h"
+#include "mesh/scene/errors.h"
+#include "mesh/scene/specular_occluders.h"
 #include "solver/form_factors/balanced_form_factors.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/open_parts.h"

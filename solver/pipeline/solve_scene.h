@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/scene.h"
 #include "solver/linear/solve_result.h"
 #include "solver/pipeline/solve_request.h"
 

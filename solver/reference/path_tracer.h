@@ -19,8 +19,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "mesh/rgb.h"
-#include "mesh/scene.h"
+#include "mesh/scene/rgb.h"
+#include "mesh/scene/scene.h"
 
 namespace bounce {
 

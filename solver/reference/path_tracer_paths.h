@@ -12,8 +12,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "mesh/rgb.h"
-#include "mesh/scene.h"
+#include "mesh/scene/rgb.h"
+#include "mesh/scene/scene.h"
 #include "solver/optics/fresnel.h"
 #include "solver/reference/path_tracer_sampling.h"
 #include "solver/reference/path_tracer_scene.h"

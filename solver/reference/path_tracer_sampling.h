@@ -13,7 +13,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "mesh/rgb.h"
+#include "mesh/scene/rgb.h"
 
 namespace bounce::path_tracing {
 

@@ -9,7 +9,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "mesh/polygon.h"
+#include "mesh/scene/polygon.h"
 
 namespace bounce::path_tracing {
 

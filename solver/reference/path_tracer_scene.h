@@ -9,9 +9,9 @@
 #include <embree3/rtcore.h>
 #include <glm/vec3.hpp>
 
-#include "mesh/rgb.h"
-#include "mesh/scene.h"
-#include "mesh/sphere.h"
+#include "mesh/scene/rgb.h"
+#include "mesh/scene/scene.h"
+#include "mesh/scene/sphere.h"
 #include "solver/reference/path_tracer.h"
 
 namespace bounce::path_tracing {

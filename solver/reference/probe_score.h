@@ -6,8 +6,8 @@
 #include <span>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/rgb.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/rgb.h"
 #include "solver/reference/reference_csv.h"
 
 namespace bounce {

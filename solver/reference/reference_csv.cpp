@@ -7,8 +7,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "mesh/input_error.h"
-#include "mesh/text_file.h"
+#include "mesh/readers/text_file.h"
+#include "mesh/scene/input_error.h"
 
 namespace bounce {
 

@@ -10,7 +10,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "mesh/rgb.h"
+#include "mesh/scene/rgb.h"
 
 namespace bounce {
 

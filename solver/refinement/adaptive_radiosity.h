@@ -6,7 +6,7 @@
 #include <functional>
 #include <vector>
 
-#include "mesh/element_tree.h"
+#include "mesh/meshing/element_tree.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/solve_result.h"
 

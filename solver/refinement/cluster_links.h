@@ -7,8 +7,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "mesh/element_tree.h"
-#include "mesh/patch.h"
+#include "mesh/meshing/element_tree.h"
+#include "mesh/meshing/patch.h"
 #include "solver/refinement/cluster_tree.h"
 
 namespace bounce {

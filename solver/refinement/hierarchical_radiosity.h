@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/element_tree.h"
+#include "mesh/meshing/element_tree.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/solve_result.h"
 #include "solver/refinement/cluster_tree.h"

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "mesh/element_tree.h"
+#include "mesh/meshing/element_tree.h"
 #include "solver/refinement/cluster_tree.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/shaft_culler.h"

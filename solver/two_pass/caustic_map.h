@@ -13,8 +13,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/rgb.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/rgb.h"
 #include "solver/two_pass/patch_scene_tracer.h"
 
 namespace bounce {

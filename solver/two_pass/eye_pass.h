@@ -14,9 +14,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/rgb.h"
-#include "mesh/scene.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/rgb.h"
+#include "mesh/scene/scene.h"
 
 namespace bounce {
 

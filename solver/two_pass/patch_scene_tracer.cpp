@@ -9,8 +9,8 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "mesh/polygon.h"
-#include "mesh/sphere.h"
+#include "mesh/scene/polygon.h"
+#include "mesh/scene/sphere.h"
 
 namespace bounce {
 

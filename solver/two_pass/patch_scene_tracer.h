@@ -6,8 +6,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/scene.h"
 
 namespace bounce {
 

@@ -11,8 +11,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "mesh/patch.h"
-#include "mesh/specular_occluders.h"
+#include "mesh/meshing/patch.h"
+#include "mesh/scene/specular_occluders.h"
 
 namespace bounce {
 

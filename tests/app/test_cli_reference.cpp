@@ -7,7 +7,7 @@
 #include <map>
 #include <sstream>
 
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 #include "solver/reference/reference_csv.h"
 #include "test_util.h"
 

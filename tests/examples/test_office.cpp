@@ -16,8 +16,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/scene_loader.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/open_parts.h"
 #include "solver/linear/shooting_solver.h"

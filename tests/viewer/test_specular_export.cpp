@@ -20,7 +20,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 #include <glm/geometric.hpp>
 
-#include "mesh/scene_loader.h"
+#include "mesh/readers/scene_loader.h"
 #include "test_util.h"
 
 using namespace bounce;

@@ -18,9 +18,9 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
-#include "mesh/cornell_box.h"
-#include "mesh/json_scene.h"
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/cornell_box.h"
+#include "mesh/readers/json_scene.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/visibility/visibility.h"

@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/balanced_form_factors.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/visibility/visibility.h"

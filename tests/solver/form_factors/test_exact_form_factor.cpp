@@ -11,10 +11,10 @@
 #include <cstdio>
 #include <vector>
 
-#include "mesh/contact_cuts.h"
-#include "mesh/cornell_box.h"
-#include "mesh/patch_mesh.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/geometry/contact_cuts.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/cornell_box.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/exact_form_factor.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/patch_sampling.h"

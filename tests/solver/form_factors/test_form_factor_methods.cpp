@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/form_factor_check.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/open_parts.h"
 #include "solver/visibility/visibility.h"
 

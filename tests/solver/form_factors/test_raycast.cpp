@@ -9,8 +9,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/counting_visibility.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"

@@ -9,10 +9,10 @@
 #include <iostream>
 #include <string>
 
-#include "mesh/element_tree.h"
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/meshing/element_tree.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/scene_loader.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/gather/final_gather.h"
 

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/scene_loader.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/counting_visibility.h"
 #include "solver/form_factors/patch_sampling.h"
 #include "solver/form_factors/point_polygon_form_factor.h"

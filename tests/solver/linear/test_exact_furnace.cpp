@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "mesh/contact_cuts.h"
-#include "mesh/cornell_box.h"
-#include "mesh/patch_mesh.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/geometry/contact_cuts.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/cornell_box.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/exact_form_factor.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"

@@ -9,9 +9,9 @@
 #include <tbb/global_control.h>
 #include <glm/geometric.hpp>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/scene_loader.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/form_factors/patch_sampling.h"

@@ -3,9 +3,9 @@
 
 #include <cmath>
 
-#include "mesh/cornell_box.h"
-#include "mesh/patch_mesh.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/cornell_box.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/form_factor_matrix.h"
 #include "solver/linear/convergence.h"
 #include "solver/linear/solver.h"

@@ -12,9 +12,9 @@
 #include <utility>
 #include <vector>
 
-#include "mesh/errors.h"
-#include "mesh/json_scene.h"
-#include "mesh/scene_loader.h"
+#include "mesh/readers/json_scene.h"
+#include "mesh/readers/scene_loader.h"
+#include "mesh/scene/errors.h"
 #include "scene_as_obj.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/gather/point_values.h"

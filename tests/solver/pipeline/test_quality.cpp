@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "mesh/errors.h"
-#include "mesh/scene_loader.h"
+#include "mesh/readers/scene_loader.h"
+#include "mesh/scene/errors.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/gather/patch_display_refinement.h"
 #include "solver/pipeline/quality.h"

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/scene_loader.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/gather/point_values.h"
 #include "solver/linear/shooting_solver.h"

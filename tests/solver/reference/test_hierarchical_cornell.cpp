@@ -12,8 +12,8 @@
 #include <memory>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/scene_loader.h"
 #include "solver/gather/hierarchical_point_values.h"
 #include "solver/reference/probe_score.h"
 #include "solver/reference/reference_csv.h"

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <iostream>
 
-#include "mesh/contact_cuts.h"
-#include "mesh/patch_mesh.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/geometry/contact_cuts.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/gather/point_values.h"
 #include "solver/linear/shooting_solver.h"

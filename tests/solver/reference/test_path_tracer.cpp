@@ -9,8 +9,8 @@
 
 #include <tbb/global_control.h>
 
-#include "mesh/cornell_box.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/readers/cornell_box.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/reference/path_tracer.h"
 

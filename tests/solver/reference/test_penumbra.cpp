@@ -13,8 +13,8 @@
 #include <memory>
 #include <vector>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/validation_scenes.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/point_polygon_form_factor.h"
 #include "solver/gather/hierarchical_point_values.h"

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "mesh/validation_scenes.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/reference/probe_classes.h"
 
 using namespace bounce;

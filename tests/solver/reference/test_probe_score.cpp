@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "mesh/validation_scenes.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/reference/probe_score.h"
 
 using namespace bounce;

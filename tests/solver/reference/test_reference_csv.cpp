@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <gtest/gtest.h>
 
-#include "mesh/input_error.h"
+#include "mesh/scene/input_error.h"
 #include "solver/reference/reference_csv.h"
 #include "test_util.h"
 

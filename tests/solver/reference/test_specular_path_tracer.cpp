@@ -8,7 +8,7 @@
 #include <numbers>
 #include <vector>
 
-#include "mesh/validation_scenes.h"
+#include "mesh/readers/validation_scenes.h"
 #include "solver/optics/fresnel.h"
 #include "solver/reference/path_tracer.h"
 

@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <string>
 
-#include "mesh/patch_mesh.h"
-#include "mesh/scene_loader.h"
+#include "mesh/meshing/patch_mesh.h"
+#include "mesh/readers/scene_loader.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 #include "solver/visibility/visibility.h"
 

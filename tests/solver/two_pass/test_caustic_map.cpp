@@ -7,7 +7,7 @@
 #include <numbers>
 #include <random>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/optics/fresnel.h"
 #include "solver/two_pass/caustic_map.h"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "mesh/patch_mesh.h"
+#include "mesh/meshing/patch_mesh.h"
 #include "solver/two_pass/eye_pass.h"
 
 using namespace bounce;
