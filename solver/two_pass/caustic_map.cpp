@@ -181,6 +181,10 @@ CausticMap::CausticMap(std::vector<CausticPhoton> photons, double radius, std::s
 CausticMap::~CausticMap() = default;
 
 Rgb CausticMap::radiance(const glm::dvec3& x, const glm::dvec3& n, const Rgb& rho) const {
+    return rho * irradiance(x, n) * (1.0 / kPi);
+}
+
+Rgb CausticMap::irradiance(const glm::dvec3& x, const glm::dvec3& n) const {
     if (!m_tree) return {};
     const double query[3] = {x.x, x.y, x.z};
     double r = m_radius;
@@ -211,7 +215,7 @@ Rgb CausticMap::radiance(const glm::dvec3& x, const glm::dvec3& n, const Rgb& rh
         sum += ph.power * (1.0 - std::sqrt(d2) / r);
     }
     // Cone filter k = 1: the disc's weights integrate to (1 - 2/3) pi r^2.
-    return rho * sum * (1.0 / (kPi * (1.0 / 3.0) * kPi * r * r));
+    return sum * (1.0 / ((1.0 / 3.0) * kPi * r * r));
 }
 
 std::vector<Rgb> CausticMap::power_per_patch() const {

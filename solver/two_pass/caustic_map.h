@@ -77,6 +77,11 @@ public:
     /// are sparse, the estimate blurs no wider than that; with nearest 0, r = radius).
     Rgb radiance(const glm::dvec3& x, const glm::dvec3& n, const Rgb& rho) const;
 
+    /// Irradiance at x (front normal n) by caustic light, W per unit area per channel: the same
+    /// estimate before the reflection, sum_i Phi_i (1 - d_i / r) / ((1/3) pi r^2); radiance()
+    /// is rho / pi times it.
+    Rgb irradiance(const glm::dvec3& x, const glm::dvec3& n) const;
+
     /// Photon power arriving at each patch, W per channel: the irradiance the radiosity should
     /// also receive, so its later bounces include the light that mirrors and glass redirect.
     std::vector<Rgb> power_per_patch() const;
