@@ -5,14 +5,19 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "app/point_values.h"
 #include "app/progress_line.h"
 #include "app/signals.h"
 #include "mesh/input_error.h"
 #include "mesh/patch_mesh.h"
+#include "mesh/specular_occluders.h"
+#include "solver/form_factors/balanced_form_factors.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/form_factors/form_factor_matrix.h"
+#include "solver/form_factors/open_parts.h"
+#include "solver/gather/patch_display_refinement.h"
 #include "solver/linear/shooting_solver.h"
 #include "solver/two_pass/caustic_map.h"
 #include "solver/two_pass/eye_pass.h"
@@ -37,6 +42,9 @@ void add_two_pass_options(CLI::App* cmd, TwoPassOptions& t) {
     cmd->add_option("--max-depth", t.max_depth, "eye rays: mirror and glass bounces per ray (16)")
         ->check(CLI::Range(0, 1000));
     cmd->add_option("--seed", t.seed, "eye rays: seed of the jitter and the photons (1)");
+    cmd->add_option("--display-tolerance", t.display_tolerance,
+                    "eye rays: display cells of the light pass's point data, as solve's (0.02; 0: off)")
+        ->check(CLI::Range(0.0, 1.0));
 }
 
 namespace {
@@ -47,9 +55,44 @@ struct LightPass {
     SolveResult res;
     std::vector<Rgb> caustic_radiosity;     // rho Phi / A: the light the photons reflect off each patch
     std::unique_ptr<CausticMap> caustics;   // none without photons
-    std::vector<Rgb> vertex, patch_values;  // B without the caustic term, per vertex and per patch
+    SolveResult shown;                      // res over the patches, less the caustic term: the picture's exposure
+    std::unique_ptr<PatchMesh> cells;       // the mesh the point data is over: the patches or their display cells
+    std::vector<Rgb> vertex, patch_values;  // B per vertex (without the caustic term) and per cell of `cells`
     std::size_t emitted = 0;
     double specular_first = 0;
+};
+
+/// The radiosity system of the light pass, built once and solved for each round of photons,
+/// as `bounce solve` solves a patch mesh: the patches' open parts (open_parts.h), and the
+/// form-factor rows balanced to them (balanced_form_factors.h) when the whole matrix fits the
+/// shooting solver's row cache; else rows on demand.
+struct LightSystem {
+    std::vector<OpenPart> open;
+    std::unique_ptr<FormFactorEstimator> rays;
+    std::optional<FormFactorMatrix> matrix;
+    std::unique_ptr<MatrixFormFactor> balanced;
+
+    LightSystem(const Scene& scene, const std::vector<Patch>& P, const Visibility& visibility) {
+        rays = make_form_factor_estimator("raycast", P, &visibility, {});
+        open = open_parts(P, visibility, 4, 16, 1, &g_interrupted, scene.covered);
+        if (FormFactorMatrix::bytes_for(P.size()) <= (SolverOptions{}.cache_mb << 20)) {
+            matrix = balance_form_factors(
+                FormFactorMatrix::build(*rays, P.size(), SolverOptions{}.cache_mb << 20, {}, &g_interrupted), P, open);
+            balanced = std::make_unique<MatrixFormFactor>(*matrix, "raycast");
+        }
+    }
+
+    /// Shooting from the patches `lit` (the mesh's, with the photons' reflected light added to
+    /// their emission).
+    SolveResult solve(const std::vector<Patch>& lit) const {
+        ShootingOptions so;
+        so.cancel = &g_interrupted;
+        so.open_parts = &open;
+        if (balanced) so.cache_mb = 0;  // the rows are the matrix's
+        SolveResult r = ShootingSolver(lit, balanced ? *balanced : *rays, so).solve();
+        if (g_interrupted.load()) throw Interrupted("interrupted while solving the radiosity");
+        return r;
+    }
 };
 
 LightPass light_pass(const CommonOptions& o, const Scene& scene, const PatchMesh& mesh, const TwoPassOptions& t) {
@@ -80,15 +123,12 @@ LightPass light_pass(const CommonOptions& o, const Scene& scene, const PatchMesh
         radius = map.radius();
     };
     const auto visibility = make_visibility(o.visibility, P, specular_occluders(scene));
+    const LightSystem system(scene, P, *visibility);
+    if (g_interrupted.load()) throw Interrupted("interrupted while computing form factors");
     auto solve = [&] {
         std::vector<Patch> lit = P;
         for (std::size_t p = 0; p < P.size(); ++p) lit[p].emission += lp.caustic_radiosity[p];
-        const auto ff = make_form_factor_estimator("raycast", lit, visibility.get(), {});
-        ShootingOptions so;
-        so.cancel = &g_interrupted;
-        SolveResult r = ShootingSolver(lit, *ff, so).solve();
-        if (g_interrupted.load()) throw Interrupted("interrupted while solving the radiosity");
-        return r;
+        return system.solve(lit);
     };
     if (photons) {
         const CausticMap lamps(mesh, tracer, co, &g_interrupted);
@@ -113,12 +153,26 @@ LightPass light_pass(const CommonOptions& o, const Scene& scene, const PatchMesh
     // The point data, gathered at the vertices from the solved patches: each vertex's own
     // emission is the mesh's (without the caustic term), so the gathered B holds the caustic
     // light only as it arrives from elsewhere; the photon map adds the caustic where it lands.
-    lp.patch_values = lp.res.radiosity;
-    for (std::size_t p = 0; p < P.size(); ++p) lp.patch_values[p] -= lp.caustic_radiosity[p];
-    if (gather_point_values(mesh, *visibility, lp.res, "vertices", o.quiet))
+    // Patches the light bends across are cut into display cells (patch_display_refinement.h),
+    // which the eye pass then shows; each cell's fallback value is its patch's.
+    lp.shown = lp.res;
+    for (std::size_t p = 0; p < P.size(); ++p) lp.shown.radiosity[p] -= lp.caustic_radiosity[p];
+    lp.cells = std::make_unique<PatchMesh>(mesh);
+    if (gather_point_values(*lp.cells, *visibility, lp.res, "vertices", PatchDisplayRefinement{t.display_tolerance},
+                            o.quiet)) {
         lp.vertex = lp.res.point_radiosity;
-    else
+        // Each cell's own value, where its corners' cannot be interpolated: their mean (the
+        // cells' solved values hold the caustic term).
+        lp.patch_values.assign(lp.cells->size(), Rgb());
+        for (std::size_t c = 0; c < lp.cells->size(); ++c) {
+            const auto idx = lp.cells->patch_vertex_indices(c);
+            for (const int v : idx) lp.patch_values[c] += lp.vertex[std::size_t(v)] * (1.0 / double(idx.size()));
+        }
+    } else {
+        lp.cells = std::make_unique<PatchMesh>(mesh);
+        lp.patch_values = lp.shown.radiosity;
         lp.vertex = area_weighted_vertex_values(mesh, lp.patch_values);
+    }
     return lp;
 }
 
@@ -136,18 +190,17 @@ TwoPassPicture render_two_pass(const CommonOptions& o, const Scene& scene, const
     out.specular_first = lp.specular_first;
     out.stored = lp.caustics ? lp.caustics->photons().size() : 0;
     // The exposure as render's for the radiosity alone: the mean non-emitting patch at mid grey.
-    out.shown = lp.res;
-    out.shown.radiosity = lp.patch_values;
+    out.shown = lp.shown;
 
     const ExportInfo info{scene.name, "", false, scene.units};
-    const PinholeCamera camera = eye_camera(mesh, lp.res, info, render);
+    const PinholeCamera camera = eye_camera(mesh, lp.shown, info, render);
     EyePassOptions eo;
     eo.width = render.width;
     eo.height = render.height;
     eo.samples_per_pixel = t.samples;
     eo.max_depth = t.max_depth;
     eo.seed = t.seed;
-    const EyePass pass(scene, mesh, std::move(lp.vertex), std::move(lp.patch_values), lp.caustics.get());
+    const EyePass pass(scene, *lp.cells, std::move(lp.vertex), std::move(lp.patch_values), lp.caustics.get());
     ProgressLine progress(!o.quiet);
     out.image = pass.render(
         camera, eo, [&](std::size_t d, std::size_t n) { progress.items("eye rays: rows", d, n); }, &g_interrupted);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -18,6 +19,34 @@ namespace bounce {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+
+/// The mesh vertex at each corner of patch p, in the order of Patch::vertices (the tracer's
+/// fan triangles), matched by position: a face of a conforming mesh of display cells also
+/// holds points on its edges (where a neighbour is split finer), and its list may start
+/// elsewhere. corners[0] < 0 when a corner has no vertex with a value.
+std::array<int, 4> patch_corners(const PatchMesh& m, std::size_t p, std::size_t values) {
+    std::array<int, 4> corners;
+    corners.fill(-1);
+    const Patch& patch = m.patches()[p];
+    const auto idx = m.patch_vertex_indices(p);
+    if (int(idx.size()) < patch.vertex_count) return corners;
+    for (int k = 0; k < patch.vertex_count; ++k) {
+        const glm::dvec3& corner = patch.vertices[std::size_t(k)];
+        double best = std::numeric_limits<double>::infinity();
+        for (const int v : idx) {
+            if (v < 0 || std::size_t(v) >= values) {
+                corners.fill(-1);
+                return corners;
+            }
+            const double d = glm::length(m.vertex_position(std::size_t(v)) - corner);
+            if (d < best) {
+                best = d;
+                corners[std::size_t(k)] = v;
+            }
+        }
+    }
+    return corners;
+}
 
 }  // namespace
 
@@ -37,15 +66,7 @@ struct EyePass::Impl {
           patch_radiosity(std::move(pb)),
           caustics(c) {
         corners.resize(m.size());
-        for (std::size_t p = 0; p < m.size(); ++p) {
-            const auto idx = m.patch_vertex_indices(p);
-            corners[p].fill(-1);
-            const bool usable = int(idx.size()) == m.patches()[p].vertex_count &&
-                                std::all_of(idx.begin(), idx.end(),
-                                            [&](int v) { return v >= 0 && std::size_t(v) < vertex_radiosity.size(); });
-            if (usable)
-                for (std::size_t k = 0; k < idx.size(); ++k) corners[p][k] = idx[k];
-        }
+        for (std::size_t p = 0; p < m.size(); ++p) corners[p] = patch_corners(m, p, vertex_radiosity.size());
     }
 
     /// B at a point of a patch: the point data interpolated over the fan triangle the ray hit
