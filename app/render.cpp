@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// bounce render: a .vtu (or a scene, solved first) to a PNG.
+// bounce render: a .vtu (or a scene, solved first as bounce solve solves it) to a PNG.
 #include "app/render.h"
 
 #include <cstdlib>
@@ -8,17 +8,40 @@
 #include <memory>
 
 #include "app/command.h"
+#include "app/signals.h"
+#include "mesh/errors.h"
 #include "mesh/input_error.h"
 #include "mesh/patch_mesh.h"
-#include "solver/form_factors/form_factor_estimator.h"
-#include "solver/linear/shooting_solver.h"
-#include "solver/visibility/visibility.h"
+#include "solver/pipeline/solve_scene.h"
 #include "viewer/exr_writer.h"
 
 namespace bounce::app {
 namespace {
 
 bool is_vtu(const std::string& p) { return std::filesystem::path(p).extension() == ".vtu"; }
+
+/// The scene solved as `bounce solve` solves it without flags (the meshing, visibility and
+/// --flip of the common options aside), through the same pipeline: open parts, balanced rows
+/// and display cells, so the picture is the one of the .vtu that solve writes. Interrupted, it
+/// throws: nothing is drawn.
+SolvedScene solve_as_solve_does(const CommonOptions& o, const Scene& scene) {
+    SolveRequest request;
+    request.meshing = o.meshing;
+    request.visibility = o.visibility;
+    request.flip = o.flip;
+    request.validate();
+    SolveHooks hooks;
+    hooks.cancel = &g_interrupted;
+    hooks.mesh = [&](const MeshingOptions& m) { return std::make_shared<const PatchMesh>(mesh_scene(o, scene, m)); };
+    hooks.check_memory = [&](const std::string& what, double bytes) { check_memory(o, what, bytes); };
+    SolvedScene solved = solve_scene(scene, request, hooks);
+    if (g_interrupted.load()) throw Interrupted("interrupted while solving");
+    if (!o.quiet) {
+        for (const auto& w : solved.warnings) std::cerr << "warning: " << w << "\n";
+        for (const auto& n : solved.notes) std::cerr << "note: " << n << "\n";
+    }
+    return solved;
+}
 
 }  // namespace
 
@@ -50,23 +73,21 @@ int run_render(const CommonOptions& o, const RenderCommand& r, bool interactive)
         if (!interactive && !o.quiet) std::cout << "wrote " << r.output << "\n";
         return 0;
     }
-    Scene scene;
-    PatchMesh mesh = load_and_mesh(o, r.input, scene);
+    const Scene scene = load_checked(o, r.input);
     if (!interactive && (scene.has_specular() || r.two_pass.ray_trace || linear)) {
         // Eye rays show what a camera sees: no patch colours, edges or colour bar.
         if (!r.render.smooth || r.render.luminance || r.render.edges)
             throw InputError(r.input + ": --flat, --luminance and --edges draw a solution's patches (a .vtu, or a " +
                              "scene without mirrors or glass), not the eye rays' picture");
-        return run_two_pass_render(o, scene, mesh, r.output, r.render, r.two_pass);
+        return run_two_pass_render(o, scene, mesh_scene(o, scene, o.meshing), r.output, r.render, r.two_pass);
     }
     if (scene.has_specular() && !o.quiet)
         std::cerr << "bounce: note: " << r.input << ": the window shows mirrors and glass as plain solids, "
                   << "without the light they redirect; bounce render " << r.input << " -o PICTURE.png draws it\n";
-    const auto visibility = make_visibility(o.visibility, mesh.patches(), specular_occluders(scene));
-    const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
-    const SolveResult res = ShootingSolver(mesh.patches(), *ff, {}).solve();
-    interactive ? view_solution(mesh, res, {r.input, "", false, scene.units}, r.render, r.exit_after)
-                : render_solution(mesh, res, {r.input, "", false, scene.units}, r.output, r.render);
+    const SolvedScene solved = solve_as_solve_does(o, scene);
+    const ExportInfo info{r.input, solved.settings, false, scene.units};
+    interactive ? view_solution(*solved.mesh, solved.result, info, r.render, r.exit_after)
+                : render_solution(*solved.mesh, solved.result, info, r.output, r.render);
     if (!interactive && !o.quiet) std::cout << "wrote " << r.output << "\n";
     return 0;
 }

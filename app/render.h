@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// What `render` and `view` share: a .vtu, or a scene solved first with the defaults, shown
+// What `render` and `view` share: a .vtu, or a scene solved first as `bounce solve` solves it, shown
 // either in a PNG or in a window.
 #pragma once
 
@@ -19,7 +19,8 @@ struct RenderCommand {
     TwoPassOptions two_pass;  // render only: eye rays for scenes with mirrors or glass, or --ray-trace
 };
 
-/// IN.vtu is rendered as it is; anything else is a scene, solved first with the defaults. A
+/// IN.vtu is rendered as it is; anything else is a scene, solved first as `bounce solve` solves
+/// it without flags (solve_scene, the meshing options aside), so the picture is its .vtu's. A
 /// scene with mirrors or glass (or any scene with --ray-trace) is drawn by the two-pass method
 /// (app/two_pass_render.h); `view` shows its diffuse patches only.
 /// interactive: a window (view) instead of the PNG r.output (render).

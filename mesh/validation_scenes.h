@@ -85,6 +85,28 @@ inline Scene closed_box(glm::dvec3 size, Material m) {
     return s;
 }
 
+/// The furnace with a floating block: a closed 2 m box [0,2]^3 (walls facing in, surfaces 0-5
+/// as closed_box's) with a block [0.6,1.4]^2 x [0.5,1.3] floating in it (faces facing out,
+/// surfaces 6-11), every face emitting 1 and reflecting 0.9: B = E / (1 - rho) = 10 on every
+/// patch, whatever blocks what. `lid` false leaves out the box's face at z = 2, an opening
+/// (the block's surfaces are then 5-10).
+inline Scene floating_block_furnace(bool lid = true) {
+    Scene s = closed_box({2, 2, 2}, {"w", Rgb::gray(0.9), Rgb::gray(1)});
+    s.name = "furnace with a floating block";
+    if (!lid) s.surfaces.erase(s.surfaces.begin() + 1);  // the face at z = 2
+    const double x0 = 0.6, x1 = 1.4, y0 = 0.6, y1 = 1.4, z0 = 0.5, z1 = 1.3;
+    const std::vector<std::vector<glm::dvec3>> block = {
+        {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},  // top, facing +z
+        {{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},  // bottom, facing -z
+        {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},  // facing -y
+        {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}},  // facing +y
+        {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},  // facing -x
+        {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}},  // facing +x
+    };
+    for (const auto& f : block) s.surfaces.push_back({f, 0, "block", {"test", 0}});
+    return s;
+}
+
 /// A closed room [-3,3] x [0,2.5] x [-2,2] (y up, walls facing in, rho 0.7) with a grey block
 /// (rho 0.5) on the floor and a 0.6 x 0.6 lamp (E = 10, facing down) hung `gap` below the ceiling
 /// (its back towards it), its footprint [-1.07,-0.47] x [-0.17,0.43]: the common way of modelling

@@ -112,9 +112,9 @@ std::shared_ptr<SolutionData> solve(
     std::optional<std::int64_t> max_iterations, std::optional<double> max_seconds, std::optional<double> sor,
     std::optional<bool> overshoot, std::optional<std::size_t> cache_mb, const std::string& method,
     std::optional<int> rays, int receiver_samples, int hemicube_res, bool hemicube_jitter, std::uint64_t seed,
-    std::size_t max_matrix_mb, const std::string& gather, bool residuals, const Reference& reference, bool adaptive,
-    const py::object& target_error, const py::object& max_patches, double link_epsilon,
-    std::optional<double> power_epsilon, int refine_rounds, int max_level, bool clustering,
+    std::size_t max_matrix_mb, const std::string& gather, bool residuals, bool whole_patches, bool balance,
+    const Reference& reference, bool adaptive, const py::object& target_error, const py::object& max_patches,
+    double link_epsilon, std::optional<double> power_epsilon, int refine_rounds, int max_level, bool clustering,
     std::optional<double> display_tolerance, const std::optional<std::string>& quality, const py::object& progress) {
     const OptionNames names = OptionNames::python();
     SolveRequest r;
@@ -132,6 +132,8 @@ std::shared_ptr<SolutionData> solve(
     r.cache_mb = cache_mb;
     r.max_matrix_mb = max_matrix_mb;
     r.residuals = residuals;
+    r.open_parts = !whole_patches;
+    r.balance = balance;
     r.method = parse_form_factor_method(method, names);
     if (rays) check_range("rays", *rays, 1, 4096);  // 0 is the request's "the method's default"
     r.form_factors.visibility_rays = rays.value_or(0);
@@ -296,11 +298,12 @@ void bind_solve(py::module_& m) {
           py::arg("cache_mb") = py::none(), py::arg("form_factors") = "raycast", py::arg("rays") = py::none(),
           py::arg("receiver_samples") = 0, py::arg("hemicube_res") = 256, py::arg("hemicube_jitter") = false,
           py::arg("seed") = 1, py::arg("max_matrix_mb") = 2048, py::arg("gather") = "vertices",
-          py::arg("residuals") = false, py::arg("reference") = py::none(), py::arg("adaptive") = false,
-          py::arg("target_error") = py::none(), py::arg("max_patches") = py::none(), py::arg("link_epsilon") = 0.1,
-          py::arg("power_epsilon") = py::none(), py::arg("refine_rounds") = HierarchicalOptions{}.refine_rounds,
-          py::arg("max_level") = 4, py::arg("clustering") = true, py::arg("display_tolerance") = py::none(),
-          py::arg("quality") = py::none(), py::arg("progress") = py::none(),
+          py::arg("residuals") = false, py::arg("whole_patches") = false, py::arg("balance") = true,
+          py::arg("reference") = py::none(), py::arg("adaptive") = false, py::arg("target_error") = py::none(),
+          py::arg("max_patches") = py::none(), py::arg("link_epsilon") = 0.1, py::arg("power_epsilon") = py::none(),
+          py::arg("refine_rounds") = HierarchicalOptions{}.refine_rounds, py::arg("max_level") = 4,
+          py::arg("clustering") = true, py::arg("display_tolerance") = py::none(), py::arg("quality") = py::none(),
+          py::arg("progress") = py::none(),
           "Radiosity of the scene, as `bounce solve` computes it with the same options (the keywords are its "
           "flags: solver shooting, gauss-seidel, jacobi, direct or hierarchical; form_factors raycast, exact, "
           "analytic or hemicube; gather vertices, centres or none; adaptive=True for --adaptive, the hierarchical "
@@ -309,7 +312,9 @@ void bind_solve(py::module_& m) {
           "miss the gathered light (the solution is then over the display cells, each patch's power kept): 0.02 "
           "for the patch solvers, 0.0025 with adaptive, 0 for hierarchical, unless given; quality draft, default "
           "or fine, the presets of --quality: the patch count (unless load() was given patches, max_area or "
-          "max_edge; the scene is then cut anew) and display cells, unless given). "
+          "max_edge; the scene is then cut anew) and display cells, unless given; whole_patches=True for "
+          "--whole-patches, the patch solvers on whole patches rather than their parts open to the scene; "
+          "balance=False for --no-balance, the form-factor rows as sampled rather than balanced). "
           "Unset, tolerance is 1e-3 (shooting: the largest relative error of a patch that the light still unshot "
           "would add, as estimated from the convergence; hierarchical: 1e-6, the largest change of an element per "
           "iteration relative to the mean), max_iterations none for shooting (it stops as stalled when the unshot "

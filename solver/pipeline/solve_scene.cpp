@@ -6,6 +6,7 @@
 #include <sstream>
 #include <utility>
 
+#include "mesh/errors.h"
 #include "mesh/specular_occluders.h"
 #include "solver/form_factors/balanced_form_factors.h"
 #include "solver/form_factors/form_factor_matrix.h"
@@ -210,6 +211,23 @@ SolverOptions solver_options(const SolveRequest& r, const SolveHooks& hooks) {
     return so;
 }
 
+/// Shooting balances its rows (the whole matrix) only when they fit its row cache and the
+/// front end's memory check allows them; refused, it shoots rows as sampled, computed as it
+/// shoots (as with SolveRequest::balance false), and says so in a warning.
+bool shooting_balances(const SolveHooks& hooks, std::size_t n, std::size_t cache_mb,
+                       std::vector<std::string>& warnings) {
+    if (FormFactorMatrix::bytes_for(n) > cache_mb << 20) return false;
+    try {
+        check_memory(hooks, "the balanced form-factor matrix (" + std::to_string(n) + " patches)",
+                     double(FormFactorMatrix::bytes_for(n)));
+    } catch (const ResourceLimitError& e) {
+        warnings.push_back(std::string(e.what()) +
+                           ": shooting on rows as sampled, computed as it shoots, not balanced (as --no-balance)");
+        return false;
+    }
+    return true;
+}
+
 std::string patch_settings(const SolveRequest& r, const SolverOptions& so, bool balanced, std::size_t patches,
                            const PatchMesh& mesh) {
     std::ostringstream s;
@@ -257,8 +275,10 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
     if (r.open_parts && !elements && r.method != FormFactorMethod::analytic && !cancelled(hooks))
         open = open_parts(P, *visibility, 4, 16, 1, hooks.cancel, scene.covered);
     SolverOptions so = solver_options(r, hooks);
-    // Balancing needs every row; shooting builds them all when they fit in its row cache.
-    const bool balance = open && r.balance && (!shooting || FormFactorMatrix::bytes_for(P.size()) <= so.cache_mb << 20);
+    // Balancing needs every row; shooting builds them all when they fit in its row cache and
+    // the memory check allows them.
+    const bool balance =
+        open && r.balance && (!shooting || shooting_balances(hooks, P.size(), so.cache_mb, out.warnings));
     std::optional<FormFactorMatrix> matrix;
     std::optional<FormFactorMatrix> balanced;  // shooting's rows, whole patches
     std::unique_ptr<MatrixFormFactor> balanced_rows;

@@ -37,9 +37,15 @@ FURNACE = ('{"name": "furnace", "materials": {"glow": {"reflectance": 0.9, "emis
         ({}, {"adaptive": True, "max_level": 2}, ["--adaptive", "--max-level", 2]),
         # A preset: load()'s scene is cut anew at the preset's patch count, as the flag cuts it.
         ({}, {"quality": "draft"}, ["--quality", "draft"]),
+        # The rows as sampled, and whole patches: the keywords are the flags.
+        ({"patches": 300}, {"balance": False}, ["--patches", 300, "--no-balance"]),
+        ({"patches": 300}, {"solver": "gauss-seidel", "balance": False},
+         ["--patches", 300, "--solver", "gauss-seidel", "--no-balance"]),
+        ({"patches": 300}, {"whole_patches": True}, ["--patches", 300, "--whole-patches"]),
     ],
     ids=["shooting", "gauss-seidel-centres", "direct", "hierarchical-default-meshing",
-         "adaptive-default-meshing", "draft-preset"],
+         "adaptive-default-meshing", "draft-preset", "shooting-no-balance", "gauss-seidel-no-balance",
+         "shooting-whole-patches"],
 )
 def test_same_request_same_bits(tmp_path, run_cli, load_options, py_options, cli_options):
     out = tmp_path / "cli.vtu"
@@ -57,6 +63,12 @@ def test_same_request_same_bits(tmp_path, run_cli, load_options, py_options, cli
     if py_options.get("gather") == "centres":
         assert np.array_equal(sol.gathered_centres, cell_array(cli, "radiosity_gathered"))
     assert sol.settings == text_field(cli, "settings")
+    if py_options.get("balance") is False:
+        assert " open_parts=1 " in sol.settings and "balanced=" not in sol.settings, sol.settings
+    if py_options.get("whole_patches"):
+        assert "open_parts=" not in sol.settings and "balanced=" not in sol.settings, sol.settings
+    if not py_options:
+        assert " open_parts=1 balanced=1" in sol.settings, sol.settings
     assert sol.status == text_field(cli, "status")
     assert int(np.asarray(cli.field_data["steps"]).ravel()[0]) == sol.steps
 

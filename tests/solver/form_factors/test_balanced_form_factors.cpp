@@ -18,29 +18,6 @@ using namespace bounce;
 
 namespace {
 
-/// A 2 m box with a block [0.6,1.4]^2 x [0.5,1.3] floating in it; `lid`: the box closed.
-Scene box_with_a_block(bool lid) {
-    Scene s = closed_box({2, 2, 2}, {"w", Rgb::gray(0.9), Rgb::gray(1)});
-    if (!lid)  // the face at z = 2 (its vertices all have z = 2) removed: an opening
-        s.surfaces.erase(std::remove_if(s.surfaces.begin(), s.surfaces.end(),
-                                        [](const Surface& f) {
-                                            return std::all_of(f.vertices.begin(), f.vertices.end(),
-                                                               [](const glm::dvec3& v) { return v.z == 2; });
-                                        }),
-                         s.surfaces.end());
-    const double x0 = 0.6, x1 = 1.4, y0 = 0.6, y1 = 1.4, z0 = 0.5, z1 = 1.3;
-    const std::vector<std::vector<glm::dvec3>> block = {
-        {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},
-        {{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},
-        {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},
-        {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}},
-        {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},
-        {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}},
-    };
-    for (const auto& f : block) s.surfaces.push_back({f, 0, "block", {"test", 0}});
-    return s;
-}
-
 struct Balanced {
     std::vector<Patch> patches;
     std::vector<OpenPart> open;
@@ -65,7 +42,7 @@ Balanced balance(const Scene& s) {
 TEST(BalancedFormFactors, ClosedRowsSumToOneAndStayReciprocal) {
     // Closed box: every part closed and open (a_i = 1), so every row must sum to 1; sampled
     // with 2 rays a pair the partly hidden pairs leave rows off by up to a few per cent.
-    const Balanced b = balance(box_with_a_block(true));
+    const Balanced b = balance(floating_block_furnace());
     const std::size_t n = b.patches.size();
     ASSERT_EQ(b.report.balanced, n);
     const std::vector<double> before = b.sampled.row_sums(), after = b.balanced.row_sums();
@@ -94,7 +71,7 @@ TEST(BalancedFormFactors, ClosedRowsSumToOneAndStayReciprocal) {
 TEST(BalancedFormFactors, ExchangeWithPartsThatSeeAnOpeningStaysAsSampled) {
     // Without its lid the box's parts see the opening: they are not closed, so their rows
     // (and, by reciprocity, their columns) keep the sampled exchange.
-    const Balanced b = balance(box_with_a_block(false));
+    const Balanced b = balance(floating_block_furnace(false));
     const std::size_t n = b.patches.size();
     std::size_t open_rows = 0;
     double worst = 0;

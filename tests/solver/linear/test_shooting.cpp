@@ -266,17 +266,7 @@ TEST(ShootingSolver, FurnaceWithAFloatingBlockIsFlat) {
     // emitting 1 and reflecting 0.9: B = 10 everywhere, whatever blocks what. Where the pairs
     // the block partly hides take their visible share from too few rays, rows stop summing to
     // one and 1/(1-rho) amplifies it.
-    Scene s = closed_box({2, 2, 2}, {"w", Rgb::gray(0.9), Rgb::gray(1)});
-    const double x0 = 0.6, x1 = 1.4, y0 = 0.6, y1 = 1.4, z0 = 0.5, z1 = 1.3;
-    const std::vector<std::vector<glm::dvec3>> block = {
-        {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},  // top, facing +z
-        {{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},  // bottom, facing -z
-        {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},  // facing -y
-        {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}},  // facing +y
-        {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},  // facing -x
-        {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}},  // facing +x
-    };
-    for (const auto& f : block) s.surfaces.push_back({f, 0, "block", {"test", 0}});
+    const Scene s = floating_block_furnace();
     MeshingOptions o;
     o.max_edge = 0.2 * (1 + 1e-9);
     const PatchMesh mesh(s, o);
@@ -312,17 +302,7 @@ TEST(ShootingSolver, FurnaceWithAFloatingBlockKeepsItsPowerOnOpenParts) {
     // Each patch is still off by what its own row's sampling leaves (the rows a patch gathers
     // along are not scaled), about 1%: flatness per patch is not reached this way.
     // Shooting and Gauss-Seidel (the open parts' matrix).
-    Scene s = closed_box({2, 2, 2}, {"w", Rgb::gray(0.9), Rgb::gray(1)});
-    const double x0 = 0.6, x1 = 1.4, y0 = 0.6, y1 = 1.4, z0 = 0.5, z1 = 1.3;
-    const std::vector<std::vector<glm::dvec3>> block = {
-        {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},
-        {{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},
-        {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},
-        {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}},
-        {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},
-        {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}},
-    };
-    for (const auto& f : block) s.surfaces.push_back({f, 0, "block", {"test", 0}});
+    const Scene s = floating_block_furnace();
     MeshingOptions o;
     o.max_edge = 0.2 * (1 + 1e-9);
     const PatchMesh mesh(s, o);

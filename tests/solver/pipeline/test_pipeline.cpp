@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh/errors.h"
@@ -168,6 +169,52 @@ TEST(SolveScene, ShotRowsAboveOneWarnAsTheCommandLinePrints) {
     r.open_parts = false;
     r.method = FormFactorMethod::exact;
     EXPECT_TRUE(solve_scene(load_scene(path.string()), r).warnings.empty());
+}
+
+TEST(SolveScene, ShootingRefusedItsBalancedMatrixShootsRowsAsSampledAndSaysSo) {
+    // Shooting builds the whole matrix (n^2 floats) to balance its rows, so it asks the memory
+    // check first, as the matrix solvers do. Allowed, it balances; refused, it shoots the rows
+    // as sampled, bit for bit as balance false does, and warns with the check's reason. The
+    // command line's check is --max-memory: 1000 patches' matrix (4 MB) is over 2 MB.
+    test::TempDir dir;
+    const Scene scene = load_scene(dir.write("furnace.json", kFurnace).string());
+    SolveRequest r;
+    r.meshing.target_patches = 216;
+    r.gather = GatherMode::none;
+    std::vector<std::pair<std::string, double>> asked;
+    bool allow = true;
+    SolveHooks hooks;
+    hooks.check_memory = [&](const std::string& what, double bytes) {
+        asked.emplace_back(what, bytes);
+        if (!allow) throw ResourceLimitError(what + " is over the limit");
+    };
+    const SolvedScene balanced = solve_scene(scene, r, hooks);
+    const std::string matrix = "the balanced form-factor matrix (" + std::to_string(balanced.patches) + " patches)";
+    ASSERT_EQ(asked.size(), 1u);
+    EXPECT_EQ(asked[0].first, matrix);
+    EXPECT_EQ(asked[0].second, 4.0 * double(balanced.patches) * double(balanced.patches));
+    EXPECT_NE(balanced.settings.find(" open_parts=1 balanced=1"), std::string::npos) << balanced.settings;
+    EXPECT_TRUE(balanced.warnings.empty());
+    allow = false;
+    const SolvedScene refused = solve_scene(scene, r, hooks);
+    EXPECT_TRUE(refused.result.converged);
+    EXPECT_EQ(refused.settings.find("balanced="), std::string::npos) << refused.settings;
+    EXPECT_EQ(refused.warnings,
+              std::vector<std::string>{matrix + " is over the limit: shooting on rows as sampled, "
+                                                "computed as it shoots, not balanced (as --no-balance)"});
+    r.balance = false;
+    const SolvedScene sampled = solve_scene(scene, r);
+    EXPECT_EQ(refused.settings, sampled.settings);
+    EXPECT_EQ(refused.result.radiosity, sampled.result.radiosity);
+    EXPECT_NE(balanced.result.radiosity, sampled.result.radiosity);
+    const auto cli = test::run(std::string(BOUNCE_EXE) + " solve --patches 1000 --max-memory 2 --gather none -o " +
+                               (dir / "c.vtu").string());
+    ASSERT_EQ(cli.exit_code, 0) << cli.err;
+    const auto warnings = lines_after(cli.err, "warning: ");
+    ASSERT_EQ(warnings.size(), 1u) << cli.err;
+    EXPECT_EQ(warnings[0].rfind("the balanced form-factor matrix (", 0), 0u) << warnings[0];
+    EXPECT_NE(warnings[0].find(" MB, over --max-memory 2 MB: shooting on rows as sampled"), std::string::npos)
+        << warnings[0];
 }
 
 TEST(SolveScene, GatheringSolverWarnsWhenRowsSumAboveOne) {

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <memory>
 #include <vector>
 
 #include "mesh/patch_mesh.h"
@@ -35,6 +36,23 @@ Scene blocked_lamp() {
         {{{0.2, 0.2, 0.5}, {0.2, 0.8, 0.5}, {0.8, 0.8, 0.5}, {0.8, 0.2, 0.5}}, 2, "blocker", {"test", 0}});
     return s;
 }
+
+MeshingOptions about_300_patches() {
+    MeshingOptions coarse;
+    coarse.target_patches = 300;
+    return coarse;
+}
+
+/// The blocked lamp cut into about 300 patches and solved by shooting, not yet gathered: the
+/// penumbra (1 wide) spans three or four patches.
+struct CoarseBlockedLamp {
+    PatchMesh mesh{blocked_lamp(), about_300_patches()};
+    std::unique_ptr<Visibility> visibility = make_visibility("embree", mesh.patches());
+    SolveResult solved =
+        ShootingSolver(mesh.patches(), *make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {}),
+                       SolverOptions{})
+            .solve();
+};
 
 /// Exact radiosity at probes across the penumbra, where at least a tenth of the lamp shows
 /// (nearer the umbra the value falls to nothing and any relative error grows without bound).
@@ -104,13 +122,10 @@ TEST(Penumbra, DisplayRefinementFollowsThePenumbraOnCoarsePatches) {
     // own vertices follow it, and so do the cells' values, which share their patch's light
     // (each patch's power stays the solve's). (What is left is the gather's: 16 rays to each
     // of the lamp's dozen patches.)
-    const Scene scene = blocked_lamp();
-    MeshingOptions coarse;
-    coarse.target_patches = 300;
-    const PatchMesh mesh(scene, coarse);
-    const auto visibility = make_visibility("embree", mesh.patches());
-    const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
-    const SolveResult solved = ShootingSolver(mesh.patches(), *ff, SolverOptions{}).solve();
+    const CoarseBlockedLamp lamp;
+    const PatchMesh& mesh = lamp.mesh;
+    const Visibility* visibility = lamp.visibility.get();
+    const SolveResult& solved = lamp.solved;
     const auto reference = exact_penumbra();
     SolveResult plain = solved;
     ASSERT_EQ(gather_point_values(mesh, *visibility, plain, "vertices"), GatherOutcome::gathered);
@@ -153,13 +168,10 @@ TEST(Penumbra, APatchWhoseMeanMatchesItsCornersIsSplitWhereTheyDisagree) {
     // all the same. With the corner test off (a spread above 1) nothing is split and the
     // interpolation misses the penumbra's curve by a third; the corner test alone brings the
     // worst probe under a tenth, the rest being the mean test's (the test above: both, 5%).
-    const Scene scene = blocked_lamp();
-    MeshingOptions coarse;
-    coarse.target_patches = 300;
-    const PatchMesh mesh(scene, coarse);
-    const auto visibility = make_visibility("embree", mesh.patches());
-    const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
-    SolveResult solved = ShootingSolver(mesh.patches(), *ff, SolverOptions{}).solve();
+    const CoarseBlockedLamp lamp;
+    const PatchMesh& mesh = lamp.mesh;
+    const Visibility* visibility = lamp.visibility.get();
+    SolveResult solved = lamp.solved;
     ASSERT_EQ(gather_point_values(mesh, *visibility, solved, "vertices"), GatherOutcome::gathered);
     for (std::size_t p = 0; p < mesh.size(); ++p) {
         Rgb mean;

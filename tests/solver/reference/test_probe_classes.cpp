@@ -78,7 +78,9 @@ TEST(ProbeClasses, ProbesByClassGiveEachClassItsShare) {
     for (const ProbeClass c : kProbeClasses) EXPECT_EQ(std::count(classes.begin(), classes.end(), c), 3);
     for (std::size_t k = 0; k < probes.size(); ++k) {
         EXPECT_EQ(probes[k].surface, 0);  // the plane: the lamp emits, the blocker and wall are black
-        if (classes[k] == ProbeClass::contact) EXPECT_LT(std::abs(probes[k].position.x + 1), 0.2);
+        if (classes[k] == ProbeClass::contact) {
+            EXPECT_LT(std::abs(probes[k].position.x + 1), 0.2);
+        }
     }
 }
 
