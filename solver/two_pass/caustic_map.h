@@ -34,6 +34,10 @@ struct CausticPhoton {
     glm::dvec3 normal{0.0};    // the patch's front normal
     Rgb power;                 // W per channel (scene units)
     int patch = -1;
+    /// Every turn on its way was a reflection off a sphere (convex, so the light it belongs to
+    /// spreads out and lands smooth); false once it was refracted or met a flat mirror or
+    /// glass face, after which light may arrive focused or sharp-edged (a caustic).
+    bool diverging = true;
 };
 
 /// Follows one photon of power `power` leaving o along d (unit) through mirrors and glass, as
@@ -79,8 +83,8 @@ public:
 
     /// Irradiance at x (front normal n) by caustic light, W per unit area per channel: the same
     /// estimate before the reflection, sum_i Phi_i (1 - d_i / r) / ((1/3) pi r^2); radiance()
-    /// is rho / pi times it.
-    Rgb irradiance(const glm::dvec3& x, const glm::dvec3& n) const;
+    /// is rho / pi times it. `radius`, when given, receives the r the estimate used.
+    Rgb irradiance(const glm::dvec3& x, const glm::dvec3& n, double* radius = nullptr) const;
 
     /// Photon power arriving at each patch, W per channel: the irradiance the radiosity should
     /// also receive, so its later bounces include the light that mirrors and glass redirect.
