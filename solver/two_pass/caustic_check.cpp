@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
+#include "mesh/cornell_box.h"
 #include "solver/reference/path_tracer.h"
 #include "solver/two_pass/caustic_map.h"
 
@@ -131,6 +132,13 @@ void take_peak(CausticMeasure& m, const std::vector<int>& pixels, const std::vec
 }
 
 }  // namespace
+
+CausticRegion cornell_spheres_caustic_region() {
+    const glm::dvec3 lamp = kCornellSpheres.lamp_centre, ball = kCornellSpheres.glass_centre;
+    const glm::dvec3 towards = ball - lamp;
+    const glm::dvec3 centre = ball + towards * (ball.y / -towards.y);
+    return {glm::dvec3(centre.x, 0, centre.z), glm::dvec3(0, 1, 0), 50.0};
+}
 
 CausticMeasure measure_caustic(const CausticMap& map, const CausticRegion& region, const CausticView& view,
                                int samples_per_pixel) {

@@ -24,6 +24,11 @@ struct CausticRegion {
     double radius = 0.0;               // scene units
 };
 
+/// The floor of cornell-spheres under its glass sphere, around where the line from the lamp's
+/// centre through the sphere's centre meets it: the caustic is a ring about 35 mm across, and
+/// the region a disc 50 mm in radius.
+CausticRegion cornell_spheres_caustic_region();
+
 /// The pixels the peak is sought in: a camera's picture, and the plane's points each pixel
 /// spans (its footprint: the pixel's rays met with the region's plane, whatever lies between).
 struct CausticView {

@@ -22,15 +22,6 @@ using V = glm::dvec3;
 
 namespace {
 
-/// The floor under the glass sphere, around where the line from the lamp's centre through
-/// the sphere's centre meets it: the caustic is a ring about 35 mm across, inside 50 mm.
-CausticRegion under_the_glass_sphere() {
-    const V lamp(278, 548.7, 279.5), ball = kCornellSpheres.glass_centre;
-    const V towards = ball - lamp;
-    const V centre = ball + towards * (ball.y / -towards.y);
-    return {V(centre.x, 0, centre.z), V(0, 1, 0), 50.0};
-}
-
 /// render's classic Cornell front view (viewer/camera.cpp), 512 x 512.
 CausticView cornell_view() {
     CausticView view;
@@ -49,7 +40,7 @@ TEST(CausticCheck, TheEmittersPhotonMapMatchesThePathTracerUnderTheGlassSphere) 
     CausticOptions co;
     co.photons = 2000000;  // the light pass's photons of the emitters
     const CausticMap map(mesh, tracer, co);
-    const CausticRegion region = under_the_glass_sphere();
+    const CausticRegion region = cornell_spheres_caustic_region();
     const CausticView view = cornell_view();
     const CausticMeasure photons = measure_caustic(map, region, view);
 
