@@ -42,7 +42,7 @@ void add_two_pass_options(CLI::App* cmd, TwoPassOptions& t) {
            "eye rays: photon rounds: the emitters', then the patches' light not yet sent through mirrors and glass (3)")
         ->check(CLI::Range(1, 16));
     cmd->add_option("--photon-nearest", t.nearest,
-                    "eye rays: photons per caustic radiance estimate (64; 0: all within --photon-radius)");
+                    "eye rays: photons per caustic radiance estimate (32; 0: all within --photon-radius)");
     cmd->add_option("--photon-radius", t.photon_radius,
                     "eye rays: largest caustic estimate radius in scene units (0: 2% of the scene's diagonal)")
         ->check(CLI::NonNegativeNumber);

@@ -21,7 +21,7 @@ namespace bounce {
 
 struct CausticOptions {
     std::size_t photons = 500000;  // emitted (most meet a diffuse surface first and are not stored)
-    std::size_t nearest = 64;      // photons a radiance estimate gathers (0: all within `radius`)
+    std::size_t nearest = 32;      // photons a radiance estimate gathers (0: all within `radius`)
     double radius = 0.0;           // largest gathering radius, scene units; 0: 2% of the scene's diagonal
     int max_bounces = 64;          // mirror and glass bounces before a photon is dropped
     std::uint64_t seed = 1;        // the same seed gives the same map on any thread count

@@ -67,7 +67,7 @@ TEST(CausticCheck, TheEmittersPhotonMapMatchesThePathTracerUnderTheGlassSphere) 
     EXPECT_LE(std::max(std::abs(photons.peak_col - traced.peak_col), std::abs(photons.peak_row - traced.peak_row)), 1)
         << "photon map peak at (" << photons.peak_col << ", " << photons.peak_row << "), path tracer at ("
         << traced.peak_col << ", " << traced.peak_row << ")";
-    // The peak's height: the map's density estimate of 64 photons is noisy (its largest
+    // The peak's height: the map's density estimate of 32 photons is noisy (its largest
     // smoothed pixel rides on that noise), the path tracer's within a few per cent.
     EXPECT_LT(traced.peak_se, 0.02 * traced.peak);
     EXPECT_NEAR(photons.peak, traced.peak, 0.1 * traced.peak);
