@@ -18,14 +18,14 @@ namespace bounce::app {
 
 struct ComparePictureOptions {
     bool enabled = false;           // --picture
-    int width = 256, height = 256;  // --picture-size WxH
+    int width = 512, height = 512;  // --picture-size WxH
     // One value each per time budget: the patches the light pass meshes the scene into, the
-    // eye rays per pixel and the photons of each light-pass round.
-    std::vector<std::size_t> patches = {250, 1000, 2000};        // --picture-patches
-    std::vector<int> samples = {1, 4, 16};                       // --picture-samples
-    std::vector<std::size_t> photons = {20000, 100000, 500000};  // --picture-photons
-    std::uint64_t reference_paths = 4096;                        // --reference-paths: per pixel of the long image
-    std::uint64_t seed = 1;                                      // jitter, photons and paths
+    // eye rays per pixel and the emitters' photons (render's --photons).
+    std::vector<std::size_t> patches = {250, 1000, 2000};          // --picture-patches
+    std::vector<int> samples = {1, 4, 16};                         // --picture-samples
+    std::vector<std::size_t> photons = {100000, 500000, 2000000};  // --picture-photons
+    std::uint64_t reference_paths = 4096;                          // --reference-paths: per pixel of the long image
+    std::uint64_t seed = 1;                                        // jitter, photons and paths
     const CLI::Option* scene = nullptr;  // compare's scene argument: not given means cornell-spheres
 };
 

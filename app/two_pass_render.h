@@ -17,13 +17,15 @@
 namespace bounce::app {
 
 struct TwoPassOptions {
-    bool ray_trace = false;        // --ray-trace: eye rays for a scene without mirrors or glass too
-    int samples = 16;              // --samples: eye rays per pixel (jittered)
-    std::size_t photons = 500000;  // --photons: photons of each of the two rounds; 0: none
-    std::size_t nearest = 64;      // --photon-nearest: photons per caustic estimate (0: all within the radius)
-    double photon_radius = 0.0;    // --photon-radius: largest estimate radius; 0: 2% of the diagonal
-    int max_depth = 16;            // --max-depth: mirror and glass bounces per eye ray
-    std::uint64_t seed = 1;        // --seed: jitter and photons
+    bool ray_trace = false;           // --ray-trace: eye rays for a scene without mirrors or glass too
+    int samples = 16;                 // --samples: eye rays per pixel (jittered)
+    std::size_t photons = 2000000;    // --photons: the emitters' photons (later rounds: as many of like power); 0: none
+    int rounds = 3;                   // --photon-rounds: the emitters', then the patches' light (2 and on)
+    std::size_t nearest = 32;         // --photon-nearest: photons per caustic estimate (0: all within the radius)
+    double photon_radius = 0.0;       // --photon-radius: largest estimate radius; 0: 2% of the diagonal
+    int max_depth = 16;               // --max-depth: mirror and glass bounces per eye ray
+    double display_tolerance = 0.02;  // --display-tolerance: display cells of the point data (as solve's); 0: off
+    std::uint64_t seed = 1;           // --seed: jitter and photons
 };
 
 /// Adds --ray-trace, --samples, --photons, --photon-nearest, --photon-radius, --max-depth and --seed.

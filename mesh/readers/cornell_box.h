@@ -20,6 +20,7 @@ struct CornellSpheresLayout {
     glm::dvec3 glass_centre{185.0, 100.0, 170.0};   // mm, right and front
     double mirror_reflectance = 0.99;               // per channel, the same at every angle
     double glass_ior = 1.5;                         // crown glass; transmittance colour 1
+    glm::dvec3 lamp_centre{278.0, 548.7, 279.5};    // mm, the centre of make_cornell_box's light
 };
 inline const CornellSpheresLayout kCornellSpheres{};
 Scene make_cornell_spheres_box();

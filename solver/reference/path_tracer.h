@@ -68,6 +68,13 @@ struct PixelSample {
     int surface = -1;  // index into Scene::surfaces of the diffuse surface reached; -1: none (escaped, absorbed)
 };
 
+/// Irradiance at a point, per channel, with its standard error.
+struct IrradianceEstimate {
+    Rgb irradiance;      // W/m^2 per channel (scene units)
+    Rgb standard_error;  // of the mean, from the spread of independent batch means (0 with one batch)
+    std::uint64_t paths = 0;
+};
+
 /// Path tracing with next-event estimation (Kajiya 1986; Veach 1997 ch. 9-10 for the
 /// estimators): at every path vertex each emitter is sampled by area, indirect light is
 /// gathered along a cosine-weighted direction, and paths end by Russian roulette on the
@@ -128,6 +135,17 @@ public:
     /// Stream `index` of `seed`; the mean of many is an unbiased pixel_radiance.
     PixelSample pixel_sample(const glm::dvec3& origin, const glm::dvec3& corner, const glm::dvec3& du,
                              const glm::dvec3& dv, std::uint64_t seed, std::uint64_t index) const;
+
+    /// The irradiance at the diffuse point x that arrives through mirrors and glass: light whose
+    /// last scattering before x was specular (the caustic; Heckbert's L D* S+ D paths ending at
+    /// x). Cosine-weighted directions from x (stratified 8 x 8 in each batch of 64) whose first
+    /// hit is a mirror or glass are followed to the diffuse surface y their chain ends on; the
+    /// irradiance is E[B(y) T] over those directions (pi times the mean radiance B(y) / pi, T
+    /// the chain's throughput), B(y) path-traced as in `estimate`. `emitted_only`: B(y) is y's
+    /// emission alone, the paths L S+ D that a caustic photon map of the emitters holds.
+    /// `paths` rounded up to whole batches of 64, at least one; stream `index` of `seed`.
+    IrradianceEstimate specular_irradiance(const SurfacePoint& x, std::uint64_t paths, bool emitted_only,
+                                           std::uint64_t seed, std::uint64_t index) const;
 
     /// Estimates every point in parallel (TBB). `progress(done, total)` is called from worker
     /// threads after each point. Points not started when `stop` is raised come back with

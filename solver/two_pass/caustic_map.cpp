@@ -61,7 +61,7 @@ std::optional<CausticPhoton> trace_caustic_photon(const PatchSceneTracer& tracer
                                                   const std::function<double()>& uniform, int max_bounces,
                                                   bool* meets_specular) {
     const double eps = tracer.epsilon();
-    bool through_specular = false;
+    bool through_specular = false, diverging = true;
     if (meets_specular) *meets_specular = false;
     for (int bounce = 0; bounce <= max_bounces; ++bounce) {
         const auto hit = tracer.trace(o, d);
@@ -69,7 +69,7 @@ std::optional<CausticPhoton> trace_caustic_photon(const PatchSceneTracer& tracer
         if (hit.kind == PatchSceneTracer::Hit::Kind::patch) {
             // Stored only after a mirror or glass, and only on a front: a back face absorbs.
             if (through_specular && glm::dot(hit.normal, d) < 0)
-                return CausticPhoton{hit.position, hit.normal, power, hit.index};
+                return CausticPhoton{hit.position, hit.normal, power, hit.index, diverging};
             return std::nullopt;
         }
         if (!through_specular && meets_specular) *meets_specular = true;
@@ -81,6 +81,7 @@ std::optional<CausticPhoton> trace_caustic_photon(const PatchSceneTracer& tracer
             power = power * m.specular;
             d = glm::normalize(reflect(d, hit.normal));
             o = hit.position + eps * hit.normal;
+            if (hit.kind != PatchSceneTracer::Hit::Kind::sphere) diverging = false;
         } else {
             const bool entering = cos_i > 0;
             const glm::dvec3 facing = entering ? hit.normal : -hit.normal;
@@ -90,7 +91,10 @@ std::optional<CausticPhoton> trace_caustic_photon(const PatchSceneTracer& tracer
             if (!refracted || uniform() < F) {
                 d = glm::normalize(reflect(d, facing));
                 o = hit.position + eps * facing;
+                // Inside a sphere its wall is concave: only the outside of one spreads light.
+                if (hit.kind != PatchSceneTracer::Hit::Kind::sphere || !entering) diverging = false;
             } else {
+                diverging = false;
                 d = *refracted;
                 o = hit.position - eps * facing;
                 if (entering) power = power * m.specular;
@@ -181,6 +185,11 @@ CausticMap::CausticMap(std::vector<CausticPhoton> photons, double radius, std::s
 CausticMap::~CausticMap() = default;
 
 Rgb CausticMap::radiance(const glm::dvec3& x, const glm::dvec3& n, const Rgb& rho) const {
+    return rho * irradiance(x, n) * (1.0 / kPi);
+}
+
+Rgb CausticMap::irradiance(const glm::dvec3& x, const glm::dvec3& n, double* radius) const {
+    if (radius) *radius = m_radius;
     if (!m_tree) return {};
     const double query[3] = {x.x, x.y, x.z};
     double r = m_radius;
@@ -203,6 +212,7 @@ Rgb CausticMap::radiance(const glm::dvec3& x, const glm::dvec3& n, const Rgb& rh
         r = std::sqrt(kth->second);
         found.resize(m_nearest);
     }
+    if (radius) *radius = r;
     if (!(r > 0)) return {};
     Rgb sum;
     for (const auto& [i, d2] : found) {
@@ -211,7 +221,7 @@ Rgb CausticMap::radiance(const glm::dvec3& x, const glm::dvec3& n, const Rgb& rh
         sum += ph.power * (1.0 - std::sqrt(d2) / r);
     }
     // Cone filter k = 1: the disc's weights integrate to (1 - 2/3) pi r^2.
-    return rho * sum * (1.0 / (kPi * (1.0 / 3.0) * kPi * r * r));
+    return sum * (1.0 / ((1.0 / 3.0) * kPi * r * r));
 }
 
 std::vector<Rgb> CausticMap::power_per_patch() const {

@@ -21,7 +21,7 @@ namespace bounce {
 
 struct CausticOptions {
     std::size_t photons = 500000;  // emitted (most meet a diffuse surface first and are not stored)
-    std::size_t nearest = 64;      // photons a radiance estimate gathers (0: all within `radius`)
+    std::size_t nearest = 32;      // photons a radiance estimate gathers (0: all within `radius`)
     double radius = 0.0;           // largest gathering radius, scene units; 0: 2% of the scene's diagonal
     int max_bounces = 64;          // mirror and glass bounces before a photon is dropped
     std::uint64_t seed = 1;        // the same seed gives the same map on any thread count
@@ -34,6 +34,10 @@ struct CausticPhoton {
     glm::dvec3 normal{0.0};    // the patch's front normal
     Rgb power;                 // W per channel (scene units)
     int patch = -1;
+    /// Every turn on its way was a reflection off a sphere (convex, so the light it belongs to
+    /// spreads out and lands smooth); false once it was refracted or met a flat mirror or
+    /// glass face, after which light may arrive focused or sharp-edged (a caustic).
+    bool diverging = true;
 };
 
 /// Follows one photon of power `power` leaving o along d (unit) through mirrors and glass, as
@@ -76,6 +80,11 @@ public:
     /// distance to the `nearest`-th nearest photon, at most `radius` (bounded: where photons
     /// are sparse, the estimate blurs no wider than that; with nearest 0, r = radius).
     Rgb radiance(const glm::dvec3& x, const glm::dvec3& n, const Rgb& rho) const;
+
+    /// Irradiance at x (front normal n) by caustic light, W per unit area per channel: the same
+    /// estimate before the reflection, sum_i Phi_i (1 - d_i / r) / ((1/3) pi r^2); radiance()
+    /// is rho / pi times it. `radius`, when given, receives the r the estimate used.
+    Rgb irradiance(const glm::dvec3& x, const glm::dvec3& n, double* radius = nullptr) const;
 
     /// Photon power arriving at each patch, W per channel: the irradiance the radiosity should
     /// also receive, so its later bounces include the light that mirrors and glass redirect.

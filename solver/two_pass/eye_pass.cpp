@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -18,6 +19,66 @@ namespace bounce {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+constexpr int kRefine = 4;  // a refined pixel's strata per side, per side of the first k x k
+
+/// The mesh vertex at each corner of patch p, in the order of Patch::vertices (the tracer's
+/// fan triangles), matched by position: a face of a conforming mesh of display cells also
+/// holds points on its edges (where a neighbour is split finer), and its list may start
+/// elsewhere. corners[0] < 0 when a corner has no vertex with a value.
+std::array<int, 4> patch_corners(const PatchMesh& m, std::size_t p, std::size_t values) {
+    std::array<int, 4> corners;
+    corners.fill(-1);
+    const Patch& patch = m.patches()[p];
+    const auto idx = m.patch_vertex_indices(p);
+    if (int(idx.size()) < patch.vertex_count) return corners;
+    for (int k = 0; k < patch.vertex_count; ++k) {
+        const glm::dvec3& corner = patch.vertices[std::size_t(k)];
+        double best = std::numeric_limits<double>::infinity();
+        for (const int v : idx) {
+            if (v < 0 || std::size_t(v) >= values) {
+                corners.fill(-1);
+                return corners;
+            }
+            const double d = glm::length(m.vertex_position(std::size_t(v)) - corner);
+            if (d < best) {
+                best = d;
+                corners[std::size_t(k)] = v;
+            }
+        }
+    }
+    return corners;
+}
+
+/// The caustic estimates made for one pixel's rays, which its other rays reuse where they
+/// land within kReuse of the estimate's radius r (on a surface facing the same way): the cone
+/// filter of radius r varies little over a tenth of it, and a pixel's rays on a surface far
+/// from any caustic, where r is the bound, would otherwise search the same photons again.
+class CausticReuse {
+public:
+    static constexpr double kReuse = 0.1;
+    const Rgb* find(const glm::dvec3& x, const glm::dvec3& n) const {
+        for (std::size_t k = 0; k < m_count; ++k) {
+            const Entry& e = m_entries[k];
+            if (glm::dot(e.normal, n) > 0.999 && glm::length(x - e.position) < kReuse * e.radius) return &e.irradiance;
+        }
+        return nullptr;
+    }
+    void add(const glm::dvec3& x, const glm::dvec3& n, double radius, const Rgb& irradiance) {
+        m_entries[m_next] = {x, n, radius, irradiance};
+        m_next = (m_next + 1) % m_entries.size();
+        m_count = std::min(m_count + 1, m_entries.size());
+    }
+    void clear() { m_count = m_next = 0; }
+
+private:
+    struct Entry {
+        glm::dvec3 position, normal;
+        double radius;
+        Rgb irradiance;
+    };
+    std::array<Entry, 4> m_entries{};
+    std::size_t m_count = 0, m_next = 0;
+};
 
 }  // namespace
 
@@ -37,15 +98,7 @@ struct EyePass::Impl {
           patch_radiosity(std::move(pb)),
           caustics(c) {
         corners.resize(m.size());
-        for (std::size_t p = 0; p < m.size(); ++p) {
-            const auto idx = m.patch_vertex_indices(p);
-            corners[p].fill(-1);
-            const bool usable = int(idx.size()) == m.patches()[p].vertex_count &&
-                                std::all_of(idx.begin(), idx.end(),
-                                            [&](int v) { return v >= 0 && std::size_t(v) < vertex_radiosity.size(); });
-            if (usable)
-                for (std::size_t k = 0; k < idx.size(); ++k) corners[p][k] = idx[k];
-        }
+        for (std::size_t p = 0; p < m.size(); ++p) corners[p] = patch_corners(m, p, vertex_radiosity.size());
     }
 
     /// B at a point of a patch: the point data interpolated over the fan triangle the ray hit
@@ -60,14 +113,26 @@ struct EyePass::Impl {
 
     /// Whitted's recursion: what arrives along o + t d, seen with weight `weight` (the largest
     /// channel of the product of the reflectances and transmittances so far).
-    Rgb trace(const glm::dvec3& o, const glm::dvec3& d, int depth, double weight, const EyePassOptions& opt) const {
+    /// The caustic irradiance at a diffuse hit, reused from `reuse` when one of its estimates
+    /// lies near enough.
+    Rgb caustic_irradiance(const PatchSceneTracer::Hit& hit, CausticReuse* reuse) const {
+        if (reuse)
+            if (const Rgb* known = reuse->find(hit.position, hit.normal)) return *known;
+        double r = 0;
+        const Rgb E = caustics->irradiance(hit.position, hit.normal, &r);
+        if (reuse) reuse->add(hit.position, hit.normal, r, E);
+        return E;
+    }
+
+    Rgb trace(const glm::dvec3& o, const glm::dvec3& d, int depth, double weight, const EyePassOptions& opt,
+              CausticReuse* reuse) const {
         const auto hit = tracer.trace(o, d);
         if (hit.missed()) return {};
         if (hit.kind == PatchSceneTracer::Hit::Kind::patch) {
             if (glm::dot(hit.normal, d) >= 0) return {};  // the back of a one-sided face
             Rgb L = radiosity_at(hit) * (1.0 / kPi);
             if (caustics)
-                L += caustics->radiance(hit.position, hit.normal, mesh.patches()[std::size_t(hit.index)].reflectance);
+                L += mesh.patches()[std::size_t(hit.index)].reflectance * caustic_irradiance(hit, reuse) * (1.0 / kPi);
             return L;
         }
         if (depth >= opt.max_depth) return {};
@@ -78,8 +143,8 @@ struct EyePass::Impl {
             if (!(cos_i > 0)) return {};
             const double w = weight * m.specular.max();
             if (w < opt.min_weight) return {};
-            return m.specular *
-                   trace(hit.position + eps * hit.normal, glm::normalize(reflect(d, hit.normal)), depth + 1, w, opt);
+            return m.specular * trace(hit.position + eps * hit.normal, glm::normalize(reflect(d, hit.normal)),
+                                      depth + 1, w, opt, reuse);
         }
         const bool entering = cos_i > 0;
         const glm::dvec3 facing = entering ? hit.normal : -hit.normal;
@@ -88,12 +153,13 @@ struct EyePass::Impl {
         const double F = refracted ? fresnel_dielectric(std::abs(cos_i), n1, n2) : 1.0;
         Rgb L;
         if (weight * F >= opt.min_weight)
-            L += F * trace(hit.position + eps * facing, glm::normalize(reflect(d, facing)), depth + 1, weight * F, opt);
+            L += F * trace(hit.position + eps * facing, glm::normalize(reflect(d, facing)), depth + 1, weight * F, opt,
+                           reuse);
         if (refracted) {
             const Rgb tint = entering ? m.specular : Rgb::gray(1.0);
             const double w = weight * (1 - F) * tint.max();
             if (w >= opt.min_weight)
-                L += (1 - F) * tint * trace(hit.position - eps * facing, *refracted, depth + 1, w, opt);
+                L += (1 - F) * tint * trace(hit.position - eps * facing, *refracted, depth + 1, w, opt, reuse);
         }
         return L;
     }
@@ -106,7 +172,7 @@ EyePass::EyePass(const Scene& scene, const PatchMesh& mesh, std::vector<Rgb> ver
 EyePass::~EyePass() = default;
 
 Rgb EyePass::radiance(const glm::dvec3& origin, const glm::dvec3& direction, const EyePassOptions& options) const {
-    return m_impl->trace(origin, glm::normalize(direction), 0, 1.0, options);
+    return m_impl->trace(origin, glm::normalize(direction), 0, 1.0, options, nullptr);
 }
 
 EyeImage EyePass::render(const PinholeCamera& camera, const EyePassOptions& options,
@@ -130,16 +196,35 @@ EyeImage EyePass::render(const PinholeCamera& camera, const EyePassOptions& opti
         std::seed_seq seq{std::uint32_t(options.seed), std::uint32_t(options.seed >> 32), std::uint32_t(row), 0x65u};
         std::mt19937_64 engine(seq);
         auto uniform = [&] { return double(engine() >> 11) * 0x1.0p-53; };
-        for (int col = 0; col < options.width; ++col) {
+        CausticReuse reuse;
+        // Jittered n x n strata over the pixel, box filter: their sum, and the least and
+        // greatest luminance of one ray.
+        auto strata = [&](int col, int n, double& lo, double& hi) {
             Rgb sum;
-            // Jittered k x k strata over the pixel, box filter.
-            for (int s = 0; s < k * k; ++s) {
-                const double px = (col + (s % k + uniform()) / k) / options.width;
-                const double py = (row + (s / k + uniform()) / k) / options.height;
+            for (int s = 0; s < n * n; ++s) {
+                const double px = (col + (s % n + uniform()) / n) / options.width;
+                const double py = (row + (s / n + uniform()) / n) / options.height;
                 const glm::dvec3 d = w + (2 * px - 1) * half_w * u + (1 - 2 * py) * half_h * v;
-                sum += m_impl->trace(camera.position, glm::normalize(d), 0, 1.0, options);
+                const Rgb L = m_impl->trace(camera.position, glm::normalize(d), 0, 1.0, options, &reuse);
+                lo = std::min(lo, L.luminance());
+                hi = std::max(hi, L.luminance());
+                sum += L;
             }
-            image.pixels[std::size_t(row) * std::size_t(options.width) + std::size_t(col)] = sum * (1.0 / (k * k));
+            return sum;
+        };
+        for (int col = 0; col < options.width; ++col) {
+            reuse.clear();
+            double lo = std::numeric_limits<double>::infinity(), hi = 0;
+            Rgb sum = strata(col, k, lo, hi);
+            int rays = k * k;
+            // Mitchell's contrast test (1987): a pixel whose rays disagree this much holds an
+            // edge (a lamp's, whose radiance is a hundredfold the walls', or a silhouette) that
+            // k x k rays place too coarsely; it gets kRefine^2 times as many.
+            if (options.refine_contrast > 0 && hi > 0 && (hi - lo) > options.refine_contrast * (hi + lo)) {
+                sum += strata(col, k * kRefine, lo, hi);
+                rays += k * kRefine * k * kRefine;
+            }
+            image.pixels[std::size_t(row) * std::size_t(options.width) + std::size_t(col)] = sum * (1.0 / rays);
         }
         const std::size_t d = ++done;
         if (progress) progress(d, std::size_t(options.height));

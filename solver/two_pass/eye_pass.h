@@ -36,6 +36,9 @@ struct EyePassOptions {
     int max_depth = 16;             // mirror and glass bounces along one eye ray; deeper branches are black
     double min_weight = 1e-3;       // a branch whose throughput falls below this (per channel max) is dropped
     std::uint64_t seed = 1;         // jitter: the same seed gives the same picture on any thread count
+    /// A pixel whose rays' luminances span (max - min) / (max + min) above this gets 16 times as
+    /// many more (an edge: Mitchell's contrast test, 1987); 0: never.
+    double refine_contrast = 0.5;
 };
 
 /// Linear radiance per pixel, W/(m^2 sr) per channel (scene units), rows top to bottom.

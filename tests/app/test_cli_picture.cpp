@@ -75,9 +75,21 @@ TEST(CliPicture, CompareScoresBothMethodsAtEqualTimeOnTheDiffusePixels) {
     EXPECT_GT(scored, 0.85);
     EXPECT_LT(scored, 1.0);
     EXPECT_GT(std::stod(rows[0].at("reference_noise")), 0.0);
+    // Both measures of the error: over the 3 x 3 neighbourhood's reference and each pixel's own.
+    EXPECT_GT(std::stod(rows[0].at("rms_error_own")), 0.0);
+    EXPECT_GT(std::stod(rows[0].at("reference_noise_own")), 0.0);
     for (const char* f : {"picture_error.png", "picture_side_by_side.png", "reference_cornell-spheres_32x32_64.pfm",
                           "reference_cornell-spheres_32x32_64_se.pfm"})
         EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+    // The caustic under the glass sphere, by the last budget's emitter photons and by the path
+    // tracer: its power within 20% at 4000 photons (a few hundred land there).
+    const auto caustic = read_csv(dir / "caustic.csv");
+    ASSERT_EQ(caustic.size(), 2u);
+    EXPECT_EQ(caustic[0].at("method"), "photon map");
+    EXPECT_EQ(caustic[1].at("method"), "path tracer");
+    const double p = std::stod(caustic[0].at("power")), q = std::stod(caustic[1].at("power"));
+    std::printf("caustic power: photon map %.0f W, path tracer %.0f W\n", p, q);
+    EXPECT_NEAR(p, q, 0.2 * q);
 }
 
 TEST(CliPicture, BadPictureOptionsAreOneLineAndExitTwo) {

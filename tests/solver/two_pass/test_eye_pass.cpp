@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <numbers>
 
 #include "mesh/meshing/patch_mesh.h"
@@ -97,4 +98,36 @@ TEST(EyePass, APictureStoppedBeforeItStartsIsWholeAndBlack) {
     for (const auto& p : none.pixels) EXPECT_EQ(p, Rgb());
     // Same seed, same picture.
     EXPECT_EQ(pass.render(cam, o).pixels, full.pixels);
+}
+
+TEST(EyePass, APixelOnAnEdgeGetsMoreRaysAndItsCoverageRight) {
+    // Straight down onto the plate (B = 2 + x, to its edge x = 3; black beyond): 37 columns
+    // span x in [-4, 4], so column 32 covers x in [3 - 0.375 w, 3 + 0.625 w], w = 8 / 37, and
+    // shows 0.375 (5 - 0.375 w / 2) / pi. 16 rays on a 4 x 4 grid place the edge to a quarter
+    // of a stratum's 4 rays; the contrast test gives the pixel 256 more.
+    MirrorScene m(Rgb::gray(0.9), 1.5);
+    const EyePass pass(m.scene, *m.mesh, m.vertex, m.patch);
+    const double half = 0.8;  // tan(fov / 2): x = 5 * 0.8 * (2 px - 1) on the plate
+    const PinholeCamera cam{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 2 * std::atan(half) * 180 / kPi};
+    EyePassOptions o;
+    o.width = o.height = 37;
+    o.samples_per_pixel = 16;
+    const double w = 8.0 / 37, c = 0.375, expected = c * (5 - c * w / 2) / kPi;
+    auto rms = [&](double contrast) {
+        o.refine_contrast = contrast;
+        const EyeImage img = pass.render(cam, o);
+        double sum = 0;
+        int n = 0;
+        for (int row = 8; row <= 28; ++row, ++n) {
+            const double e = img.pixels[std::size_t(row * 37 + 32)].g / expected - 1;
+            sum += e * e;
+        }
+        return std::sqrt(sum / n);
+    };
+    const double refined = rms(0.5), plain = rms(0.0);
+    std::cout << "edge pixels' RMS error: " << 100 * refined << "% refined, " << 100 * plain << "% with 16 rays\n";
+    // 16 rays: about sqrt(c (1 - c) / 4) / 4 / c = 16% per pixel; refined, 16 rays a column of
+    // strata, a sixteenth of that and the first 16 rays' share.
+    EXPECT_LT(refined, 0.03);
+    EXPECT_GT(plain, 3 * refined);
 }
