@@ -94,7 +94,7 @@ TEST(CliPicture, CompareScoresBothMethodsAtEqualTimeOnTheDiffusePixels) {
 
 TEST(CliPicture, BadPictureOptionsAreOneLineAndExitTwo) {
     bounce::test::TempDir dir;
-    for (const std::string args :
+    for (const std::string& args :
          {"compare --picture --picture-samples 1,2 --picture-photons 1000 --out " + dir.path().string(),
           "compare --picture-size 32x32 --out " + dir.path().string(),
           "compare --picture --picture-size 8x8 --out " + dir.path().string(),
