@@ -289,7 +289,8 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
             ->add_option("--display-tolerance", solve->display_tolerance,
                          "split cells for display where linear interpolation between their vertices, as ParaView shows "
                          "the point data, would miss the light inside them by more than this share, and gather the new "
-                         "vertices (patch solvers: new points tried down to 2 splits a patch; hierarchical: the "
+                         "vertices (patch solvers: new points tried down to 2 splits a patch, 6 where a step in the "
+                         "light crosses a cell; hierarchical: the "
                          "element's centre value); 0: off (default: 0.02 with the patch solvers but for --elements and "
                          "--series, 0.0025 with --adaptive, 0 with --solver hierarchical)")
             ->check(in_range(0.0, 1.0)));

@@ -87,6 +87,20 @@ bool child_touches_a_miss(const ElementTree& tree, std::uint32_t c, const std::v
     return false;
 }
 
+/// The spread of a cell's gathered corners, relative_miss of the brightest against the
+/// darkest; 0 where a corner is unknown.
+double corner_step(const ElementTree& tree, const PointValues& known, std::uint32_t cell, int surface, double floor) {
+    const ElementTree::Node& n = tree.node(cell);
+    double lo = 1e300, hi = 0.0;
+    for (int k = 0; k < n.corner_count; ++k) {
+        const Rgb* v = known.find(surface, tree.point(n.root, n.corners[std::size_t(k)]));
+        if (!v) return 0.0;
+        lo = std::min(lo, v->luminance());
+        hi = std::max(hi, v->luminance());
+    }
+    return relative_miss(hi, lo, floor);
+}
+
 /// Gathers, from the solved patches, every vertex of `mesh` (whose gather points are
 /// `points`, vertex_gather_points') not yet in `known`, and adds it. False when `cancel` was set.
 bool gather_new_vertices(const PatchMesh& mesh, const std::vector<GatherPoint>& points,
@@ -285,7 +299,7 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     std::vector<std::uint32_t> cells(n);
     std::iota(cells.begin(), cells.end(), 0u);
     double pairs = 0.0;
-    for (int depth = 1; depth <= options.max_depth && !active.empty(); ++depth) {
+    for (int depth = 1; depth <= options.max_depth + options.step_depth && !active.empty(); ++depth) {
         // Split the active cells (children in their parent's place) and gather what that adds.
         std::vector<std::uint8_t> splitting(tree.size(), 0);
         for (const std::uint32_t a : active) splitting[a] = 1;
@@ -320,7 +334,13 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
             }
             for (std::int32_t k = 0; k < 4; ++k) {
                 const auto child = std::uint32_t(node.first_child + k);
-                if (child_touches_a_miss(tree, child, points, misses, options.tolerance)) next_active.push_back(child);
+                if (!child_touches_a_miss(tree, child, points, misses, options.tolerance)) continue;
+                // Past max_depth only the cells a step crosses go on: their number grows with
+                // the length of the shadow lines, not with the area.
+                if (depth >= options.max_depth &&
+                    corner_step(tree, known, child, sources[node.root].surface, floor) <= options.corner_spread)
+                    continue;
+                next_active.push_back(child);
             }
         }
         cells.clear();

@@ -24,6 +24,11 @@ struct PatchDisplayRefinement {
     double tolerance = 0.0;
     /// Splits below each patch: each halves the cells' edges.
     int max_depth = 2;
+    /// Further splits, below max_depth, of the cells whose corners still differ by more than
+    /// corner_spread (a step: a hard shadow line at a contact, where the penumbra narrows to
+    /// nothing and a probe a millimetre from the line takes its far side's light from a corner
+    /// across it). Four halve a 30 mm patch's cells to 2 mm along such lines only.
+    int step_depth = 4;
     /// A patch is also tried split where its corners' values differ by more than this share
     /// of the brightest (a shadow line crossing it): its mean can match the corners' mean by
     /// chance while the light inside it bends, and whether it did would then depend on the
@@ -40,7 +45,8 @@ inline constexpr double kPatchDisplayTolerance = 0.02;
 /// or whose vertices' values spread by more than corner_spread,
 /// gathers the split's new vertices from the solved patches, keeps the split where one of them
 /// misses the interpolation by more than the tolerance and tries the kept cells again, down to
-/// max_depth. Then replaces `mesh` by the cells' conforming mesh (ElementTree::conforming_mesh)
+/// max_depth, and below it, down to max_depth + step_depth, the kept cells whose corners
+/// differ by more than corner_spread. Then replaces `mesh` by the cells' conforming mesh (ElementTree::conforming_mesh)
 /// and spreads the per-patch arrays of `res` (radiosity, irradiance, unshot, display) to the
 /// cells: a split patch's reflected radiosity B - E (and H, and the display value) is shared
 /// among its cells in proportion to the point data over each, so each patch keeps its power

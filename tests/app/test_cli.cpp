@@ -479,16 +479,38 @@ TEST(Cli, AJsonMeshObjectWithAMaterialPassesStrict) {
 
 TEST(Cli, VisibilityBackendsGiveTheSameSolution) {
     test::TempDir dir;
-    const auto a = bounce_run("solve -q --patches 300 --visibility embree --ascii -o " + (dir / "e.vtu").string());
-    const auto b = bounce_run("solve -q --patches 300 --visibility cgal --ascii -o " + (dir / "c.vtu").string());
-    ASSERT_EQ(a.exit_code, 0) << a.err;
-    ASSERT_EQ(b.exit_code, 0) << b.err;
     // The files differ only in the recorded seconds; compare the radiosity array's text.
     auto radiosity = [](const std::string& text) {
         const auto at = text.find("Name=\"radiosity\"");
         return text.substr(at, text.find("</DataArray>", at) - at);
     };
-    EXPECT_EQ(radiosity(slurp(dir / "e.vtu")), radiosity(slurp(dir / "c.vtu")));
+    auto numbers = [&](const std::string& text) {
+        std::string values = radiosity(text);
+        values = values.substr(values.find('>') + 1);
+        std::istringstream in(values);
+        std::vector<double> out;
+        for (double x; in >> x;) out.push_back(x);
+        return out;
+    };
+    auto solve = [&](const std::string& backend, const std::string& flags) {
+        const std::filesystem::path out = dir / (backend + ".vtu");
+        const auto r =
+            bounce_run("solve -q --patches 300 --visibility " + backend + " --ascii " + flags + " -o " + out.string());
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return slurp(out);
+    };
+    // The solve and the vertices' gather: the same bits.
+    EXPECT_EQ(radiosity(solve("embree", "--display-tolerance 0")), radiosity(solve("cgal", "--display-tolerance 0")));
+    // Display cells split down to a few millimetres from a block's edges, where a ray that
+    // grazes an edge may be blocked in one backend's arithmetic (Embree's is single precision)
+    // and not in the other's: the same cells, each value within 1%.
+    const std::vector<double> e = numbers(solve("embree", "")), c = numbers(solve("cgal", ""));
+    ASSERT_EQ(e.size(), c.size());
+    ASSERT_GT(e.size(), 3u * 300u);
+    double worst = 0.0;
+    for (std::size_t k = 0; k < e.size(); ++k)
+        worst = std::max(worst, std::abs(e[k] - c[k]) / std::max({e[k], c[k], 1e-12}));
+    EXPECT_LE(worst, 0.01);
     EXPECT_EQ(bounce_run("solve --visibility optix").exit_code, 2);
 }
 

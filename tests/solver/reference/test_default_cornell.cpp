@@ -58,7 +58,8 @@ namespace {
 /// probes path-traced to 0.5%, a quarter each lit, penumbra, unlit, contact), per class as
 /// `bounce compare` scores it.
 std::array<ClassScore, 4> default_run_by_class(const std::string& scene_name, const std::string& reference_csv,
-                                               ProbeScore& all, std::uint64_t seed = 1) {
+                                               ProbeScore& all, std::uint64_t seed = 1,
+                                               PatchDisplayRefinement cells = {kPatchDisplayTolerance}) {
     const auto reference = read_reference(std::filesystem::path(BOUNCE_SOURCE_DIR) / reference_csv);
     const Scene scene = load_scene(scene_name);
     PatchMesh mesh(scene, MeshingOptions{});
@@ -69,8 +70,7 @@ std::array<ClassScore, 4> default_run_by_class(const std::string& scene_name, co
     SolveResult res = ShootingSolver(mesh.patches(), *ff, SolverOptions{}).solve();
     EXPECT_TRUE(res.converged);
     const std::size_t patches = mesh.size();
-    EXPECT_EQ(gather_point_values(mesh, *visibility, res, "vertices", PatchDisplayRefinement{kPatchDisplayTolerance}),
-              GatherOutcome::gathered);
+    EXPECT_EQ(gather_point_values(mesh, *visibility, res, "vertices", cells), GatherOutcome::gathered);
     EXPECT_GT(mesh.size(), patches) << "no display cells";
     all = score_at_probes(mesh, res.radiosity, reference, res.point_radiosity);
     const PathTracer tracer(scene);
@@ -80,7 +80,7 @@ std::array<ClassScore, 4> default_run_by_class(const std::string& scene_name, co
             classes[k] = classify_probe(tracer, *x, k);
     const auto by_class = score_by_class(all, classes);
     std::cout << scene_name << ": " << patches << " patches, " << mesh.size() << " cells; point data " << all.rms_smooth
-              << " RMS, " << all.max_smooth << " worst";
+              << " RMS, " << all.max_smooth << " worst; cell values " << all.rms_patch << " RMS";
     for (std::size_t c = 0; c < 4; ++c)
         std::cout << "; " << to_string(kProbeClasses[c]) << " " << by_class[c].rms_smooth << " / "
                   << by_class[c].max_smooth << " (" << by_class[c].scored << ")";
@@ -90,9 +90,10 @@ std::array<ClassScore, 4> default_run_by_class(const std::string& scene_name, co
 
 }  // namespace
 
-// Issue 34's goals where it is hard: point data within 1.5% RMS, penumbra probes within 3% RMS.
-// (Its 5% at the worst probe is not met yet: a floor point 5 mm from the tall block's corner,
-// 2 mm beside the sharp shadow line that starts there, is about 14% off.)
+// Issue 34's goals where it is hard: point data within 1.5% RMS, penumbra probes within 3% RMS,
+// the cells' values within 5% RMS.
+// (Its 5% at the worst probe is not met yet: a point on the short block's side 5 mm above the
+// floor, where the face's lowest vertices gather its near strip of floor, is about 15% off.)
 TEST(DefaultCornell, DisplayCellsMeetThePointDataGoalsWhereItIsHard) {
     ProbeScore all;
     const auto by_class = default_run_by_class("cornell", "examples/reference/cornell_classes_192.csv", all);
@@ -100,6 +101,24 @@ TEST(DefaultCornell, DisplayCellsMeetThePointDataGoalsWhereItIsHard) {
     EXPECT_LE(all.rms_smooth, 0.015);
     EXPECT_LE(by_class[1].rms_smooth, 0.03);  // penumbra
     EXPECT_GE(by_class[1].scored, 40u);
+    EXPECT_LE(all.rms_patch, 0.05);
+}
+
+// Where a block stands on the floor, the penumbra of its edge narrows to nothing at its foot: a
+// step in the light that a 30 mm patch's cells, split twice (7.5 mm), straddle, so a probe a
+// millimetre or two beside the line takes the other side's light from a corner across it, and
+// a cell's value averages both sides. The cells a step still crosses are split on (step_depth)
+// down to 2 mm along the lines.
+TEST(DefaultCornell, CellsFollowTheHardShadowLinesAtContacts) {
+    ProbeScore along, stopped;
+    PatchDisplayRefinement two_splits{kPatchDisplayTolerance};
+    two_splits.step_depth = 0;
+    default_run_by_class("cornell", "examples/reference/cornell_classes_192.csv", along);
+    default_run_by_class("cornell", "examples/reference/cornell_classes_192.csv", stopped, 1, two_splits);
+    EXPECT_GT(stopped.rms_patch, 0.08);
+    EXPECT_LE(along.rms_patch, 0.05);
+    EXPECT_LT(along.rms_smooth, stopped.rms_smooth);
+    EXPECT_LE(along.max_smooth, 0.16);
 }
 
 // The display cells must not hang on the rays' luck: with other seeds a cell over the short
@@ -111,7 +130,7 @@ TEST(DefaultCornell, DisplayCellsHoldWithOtherRays) {
         ProbeScore all;
         default_run_by_class("cornell", "examples/reference/cornell_classes_192.csv", all, seed);
         EXPECT_LE(all.rms_smooth, 0.02) << "seed " << seed;
-        EXPECT_LE(all.max_smooth, 0.2) << "seed " << seed;
+        EXPECT_LE(all.max_smooth, 0.1) << "seed " << seed;
     }
 }
 
