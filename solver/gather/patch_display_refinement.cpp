@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -43,6 +44,20 @@ std::vector<SplitPoint> split_points(const ElementTree::Node& n) {
     return {mid(0, 1), mid(1, 2), mid(2, 0)};
 }
 
+/// The luminance of the gathered values at a node's corners (its corner_count first); none
+/// where a corner's value is unknown.
+std::optional<std::array<double, 4>> corner_luminances(const ElementTree& tree, const PointValues& known,
+                                                       std::uint32_t node, int surface) {
+    const ElementTree::Node& n = tree.node(node);
+    std::array<double, 4> out{};
+    for (int k = 0; k < n.corner_count; ++k) {
+        const Rgb* v = known.find(surface, tree.point(n.root, n.corners[std::size_t(k)]));
+        if (!v) return std::nullopt;
+        out[std::size_t(k)] = v->luminance();
+    }
+    return out;
+}
+
 /// Per new point of a split node (`points`, its split_points), the relative_miss of the value
 /// gathered there against the interpolation between the node's corners; 0 where a value is
 /// unknown.
@@ -50,12 +65,9 @@ std::vector<double> split_misses(const ElementTree& tree, const PointValues& kno
                                  const std::vector<SplitPoint>& points, int surface, double floor) {
     const ElementTree::Node& n = tree.node(node);
     std::vector<double> out(points.size(), 0.0);
-    std::array<double, 4> corner{};
-    for (int k = 0; k < n.corner_count; ++k) {
-        const Rgb* v = known.find(surface, tree.point(n.root, n.corners[std::size_t(k)]));
-        if (!v) return out;
-        corner[std::size_t(k)] = v->luminance();
-    }
+    const std::optional<std::array<double, 4>> known_corners = corner_luminances(tree, known, node, surface);
+    if (!known_corners) return out;
+    const std::array<double, 4>& corner = *known_corners;
     for (std::size_t q = 0; q < points.size(); ++q) {
         const Rgb* v = known.find(surface, tree.point(n.root, points[q].uv));
         if (!v) continue;
@@ -90,15 +102,10 @@ bool child_touches_a_miss(const ElementTree& tree, std::uint32_t c, const std::v
 /// The spread of a cell's gathered corners, relative_miss of the brightest against the
 /// darkest; 0 where a corner is unknown.
 double corner_step(const ElementTree& tree, const PointValues& known, std::uint32_t cell, int surface, double floor) {
-    const ElementTree::Node& n = tree.node(cell);
-    double lo = 1e300, hi = 0.0;
-    for (int k = 0; k < n.corner_count; ++k) {
-        const Rgb* v = known.find(surface, tree.point(n.root, n.corners[std::size_t(k)]));
-        if (!v) return 0.0;
-        lo = std::min(lo, v->luminance());
-        hi = std::max(hi, v->luminance());
-    }
-    return relative_miss(hi, lo, floor);
+    const std::optional<std::array<double, 4>> corner = corner_luminances(tree, known, cell, surface);
+    if (!corner) return 0.0;
+    const auto first = corner->begin(), last = first + tree.node(cell).corner_count;
+    return relative_miss(*std::max_element(first, last), *std::min_element(first, last), floor);
 }
 
 /// Gathers, from the solved patches, every vertex of `mesh` (whose gather points are

@@ -46,17 +46,15 @@ inline constexpr double kPatchDisplayTolerance = 0.02;
 /// gathers the split's new vertices from the solved patches, keeps the split where one of them
 /// misses the interpolation by more than the tolerance and tries the kept cells again, down to
 /// max_depth, and below it, down to max_depth + step_depth, the kept cells whose corners
-/// differ by more than corner_spread. Then replaces `mesh` by the cells' conforming mesh (ElementTree::conforming_mesh)
-/// and spreads the per-patch arrays of `res` (radiosity, irradiance, unshot, display) to the
-/// cells: a split patch's reflected radiosity B - E (and H, and the display value) is shared
-/// among its cells in proportion to the point data over each, so each patch keeps its power
-/// (sum_k A_k B_k = A B) and the energy account is the solve's, while the cells' values follow
-/// a shadow line through the patch. Vertices beside near sources with a shape
-/// (GatherOptions::source_corners) are gathered again first, also when nothing is split.
-/// Returns the cells added; 0, with `mesh` unchanged, when the tolerance is 0, nothing
-/// misses, `cancel` was set (the point data then as it was or partly gathered again), or the
-/// new vertices would take more than kMaxGatherPairs vertex-patch pairs. `progress` receives
-/// each gather.
+/// differ by more than corner_spread. Then replaces `mesh` by the cells' conforming mesh
+/// (ElementTree::conforming_mesh) and spreads the per-patch arrays of `res` (radiosity, irradiance, unshot, display) to
+/// the cells: a split patch's reflected radiosity B - E (and H, and the display value) is shared among its cells in
+/// proportion to the point data over each, so each patch keeps its power (sum_k A_k B_k = A B) and the energy account
+/// is the solve's, while the cells' values follow a shadow line through the patch. Vertices beside near sources with a
+/// shape (GatherOptions::source_corners) are gathered again first, also when nothing is split. Returns the cells added;
+/// 0, with `mesh` unchanged, when the tolerance is 0, nothing misses, `cancel` was set (the point data then as it was
+/// or partly gathered again), or the new vertices would take more than kMaxGatherPairs vertex-patch pairs. `progress`
+/// receives each gather.
 std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibility& visibility,
                                  const PatchDisplayRefinement& options, const std::atomic<bool>* cancel = nullptr,
                                  const std::function<void(std::size_t, std::size_t)>& progress = {});
