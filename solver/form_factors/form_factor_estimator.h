@@ -42,6 +42,12 @@ struct FormFactorOptions {
     /// the partial pairs lower the noise in shadows and at contacts, for about half again the
     /// ray-casting time on the Cornell box, where the mesh rather than the rays limits the error.
     int partial_rays = 0;
+    /// Raycast: a pair whose unoccluded factor from its smaller patch is at least this, and
+    /// which the shaft's plane test does not clear, takes the exact method's visibility
+    /// instead of rays (its candidate blockers' shadows clipped out of the source,
+    /// ExactFormFactor): a few rays can only say 0, 1/2 or 1, and on large near pairs that is
+    /// most of the factor. 0 or above 1: rays for every pair.
+    double clip_above = 0.02;
 };
 
 /// `o` with visibility_rays 0 (the default) replaced by `rays`.

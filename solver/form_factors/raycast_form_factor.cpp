@@ -74,7 +74,11 @@ RaycastFormFactor::RaycastFormFactor(const std::vector<Patch>& patches, const Vi
       m_options(with_default_rays(options, kPatchPairRays)),
       m_unoccluded(patches, options.unoccluded_tolerance),
       // Mirrors and glass block rays without being patches: no shaft test over the patches.
-      m_culler(visibility && !visibility->has_occluders() ? std::make_unique<ShaftCuller>(patches) : nullptr) {
+      m_culler(visibility && !visibility->has_occluders() ? std::make_unique<ShaftCuller>(patches) : nullptr),
+      m_clip_count(patches.size()),
+      m_clipper(m_culler && options.receiver_samples == 0 && options.clip_above > 0 && options.clip_above <= 1
+                    ? std::make_unique<ExactFormFactor>(patches, true, options, visibility)
+                    : nullptr) {
     if (m_options.visibility_rays < 1) throw std::invalid_argument("visibility rays must be at least 1");
     // (m_unoccluded has checked the tolerance.)
     if (options.receiver_samples < 0) throw std::invalid_argument("receiver samples must not be negative");
@@ -177,6 +181,9 @@ double RaycastFormFactor::directed(std::size_t i, std::size_t j, double visible)
     if (m_options.receiver_samples == 0) {
         const double f_rs = m_unoccluded(j, i);
         if (f_rs <= 0.0) return 0.0;
+        if (visible < 0 && m_clipper && std::max(i, j) < m_clip_count && f_rs >= m_options.clip_above &&
+            !m_culler->clear(std::min(i, j), std::max(i, j)))
+            return m_clipper->pair(i, j);
         return f_rs * (visible >= 0 ? visible : visible_fraction(i, j)) * r.area / s.area;
     }
     const int n = m_options.receiver_samples;

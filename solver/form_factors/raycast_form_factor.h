@@ -11,6 +11,7 @@
 
 namespace bounce {
 
+class ExactFormFactor;
 class ShaftCuller;
 
 /// Ray-cast form factors in the manner of Wallace, Elmquist and Haines (1989): the unoccluded
@@ -69,7 +70,9 @@ private:
     const Visibility* m_visibility;
     FormFactorOptions m_options;
     UnoccludedFormFactor m_unoccluded;
-    std::unique_ptr<ShaftCuller> m_culler;  // with visibility that has no occluders only
+    std::unique_ptr<ShaftCuller> m_culler;       // with visibility that has no occluders only
+    std::size_t m_clip_count = 0;                // patches when built: pairs beyond (appended later) take rays
+    std::unique_ptr<ExactFormFactor> m_clipper;  // pairs above options.clip_above (with m_culler only)
 };
 
 /// Rows from patches to elements, for shooting with an ElementHierarchy: row i holds

@@ -169,6 +169,7 @@ TEST(RaycastFormFactor, SymmetricBlockerIsUnbiasedForEveryRayCount) {
             FormFactorOptions o;
             o.visibility_rays = rays;
             o.seed = std::uint64_t(seed);
+            o.clip_above = 0;  // the rays' own estimate, not the exact shadows
             const RaycastFormFactor ff(mesh.patches(), vis.get(), o);
             const double f = ff.pair(0, 1);
             sum += f;
@@ -413,6 +414,7 @@ TEST(RaycastFormFactor, KernelWeightedRaysConvergeToTheOccludedFactor) {
         FormFactorOptions o;
         o.visibility_rays = 4096;
         o.seed = std::uint64_t(seed);
+        o.clip_above = 0;
         const RaycastFormFactor ff(mesh.patches(), vis.get(), o);
         sum += ff.pair(0, 1);
     }
@@ -458,6 +460,7 @@ TEST(RaycastFormFactor, PartlyBlockedPairsGetMoreRaysWithoutBias) {
             FormFactorOptions o;
             o.seed = std::uint64_t(seed);
             o.partial_rays = partial;
+            o.clip_above = 0;
             const double f = RaycastFormFactor(whole.patches(), wvis.get(), o).pair(0, 1);
             sum += f;
             sum2 += f * f;
@@ -469,6 +472,30 @@ TEST(RaycastFormFactor, PartlyBlockedPairsGetMoreRaysWithoutBias) {
         deviation[partial ? 1 : 0] = sd;
     }
     EXPECT_LT(deviation[1], 0.8 * deviation[0]);
+}
+
+TEST(RaycastFormFactor, LargePartlyBlockedPairsTakeTheBlockersExactShadows) {
+    // Whole surfaces (one patch each) and the default options: the pair's unoccluded factor,
+    // 0.1998, is above clip_above, so its visibility is the blocker's shadow clipped out of the
+    // source at quadrature points on the receiver, not two rays (which give 0, 0.0999 or 0.1998).
+    // Issue 34 asks for 1e-4; the shadow clipping reaches about 1e-8, the same for every seed,
+    // and both ways round by reciprocity.
+    const PatchMesh whole(asymmetric_blocker(), MeshingOptions{.subdivide = false});
+    ASSERT_EQ(whole.size(), 3u);
+    const auto vis = make_visibility("embree", whole.patches());
+    for (int seed = 1; seed <= 5; ++seed) {
+        FormFactorOptions o;
+        o.seed = std::uint64_t(seed);
+        const RaycastFormFactor ff(whole.patches(), vis.get(), o);
+        EXPECT_NEAR(ff.pair(0, 1), kAsymmetricBlockerF12, 1e-6) << seed;
+        EXPECT_NEAR(ff.pair(1, 0), kAsymmetricBlockerF12, 1e-6) << seed;  // equal areas
+    }
+    // Above the pair's factor the two rays decide, and miss the factor by far more.
+    FormFactorOptions rays_only;
+    rays_only.clip_above = 0.5;
+    const double f = RaycastFormFactor(whole.patches(), vis.get(), rays_only).pair(0, 1);
+    std::printf("asymmetric blocker whole, 2 rays: %.6f against %.6f\n", f, kAsymmetricBlockerF12);
+    EXPECT_GT(std::abs(f - kAsymmetricBlockerF12), 1e-3);
 }
 
 TEST(RaycastFormFactor, OccludersThatAreNoPatchesBlockEvenInAConvexRoom) {
