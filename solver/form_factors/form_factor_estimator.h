@@ -56,6 +56,14 @@ inline FormFactorOptions with_default_rays(FormFactorOptions o, int rays) {
     return o;
 }
 
+/// `o` with clip_above 0, so every raycast pair takes rays: for lists that are no single mesh,
+/// such as elements appended as they split or lying on the patches they refine, where the
+/// exact shadows would see a fixed list of blockers and overlapping coplanar candidates.
+inline FormFactorOptions with_rays_only(FormFactorOptions o) {
+    o.clip_above = 0;
+    return o;
+}
+
 /// Computes rows of the form-factor matrix. F_ij is the fraction of power leaving patch i
 /// (diffusely, from its front) that arrives at patch j; rows sum to 1 in a closed enclosure
 /// and A_i F_ij = A_j F_ji (reciprocity).

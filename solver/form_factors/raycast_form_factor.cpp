@@ -245,7 +245,9 @@ std::vector<Patch> joined(const std::vector<Patch>& a, const std::vector<Patch>&
 PatchToElementFormFactor::PatchToElementFormFactor(const std::vector<Patch>& patches,
                                                    const std::vector<Patch>& elements, const Visibility* visibility,
                                                    const FormFactorOptions& options)
-    : m_all(joined(patches, elements)), m_first_element(patches.size()), m_inner(m_all, visibility, options) {}
+    : m_all(joined(patches, elements)),
+      m_first_element(patches.size()),
+      m_inner(m_all, visibility, with_rays_only(options)) {}
 
 void PatchToElementFormFactor::compute_row(std::size_t i, std::span<float> row) const {
     if (i >= m_first_element || row.size() != m_all.size() - m_first_element)

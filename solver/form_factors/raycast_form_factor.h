@@ -77,7 +77,8 @@ private:
 
 /// Rows from patches to elements, for shooting with an ElementHierarchy: row i holds
 /// F(patch i -> element j) for every element j, from the same kernel and rays as
-/// RaycastFormFactor applied to the joint list (patches, then elements).
+/// RaycastFormFactor applied to the joint list (patches, then elements), rays for every pair
+/// (with_rays_only: the elements lie on the patches).
 class PatchToElementFormFactor final : public FormFactorEstimator {
 public:
     PatchToElementFormFactor(const std::vector<Patch>& patches, const std::vector<Patch>& elements,

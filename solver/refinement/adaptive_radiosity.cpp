@@ -19,14 +19,6 @@
 namespace bounce {
 namespace {
 
-/// Raycast options for a geometry list that grows as elements split: refinement's rays, and
-/// no exact shadows (RaycastFormFactor clips over the list it was built with).
-FormFactorOptions growing_list_factors(const FormFactorOptions& o) {
-    FormFactorOptions f = with_default_rays(o, kRefinementRays);
-    f.clip_above = 0;
-    return f;
-}
-
 /// The state shared by the adaptive and the uniform runs: the tree, element rows and corner
 /// rows over the patches, and the patch-level solve.
 class TwoLevelSystem {
@@ -34,7 +26,7 @@ public:
     TwoLevelSystem(const std::vector<Patch>& patches, const Visibility& visibility, const AdaptiveOptions& o)
         : m_tree(patches),
           m_options(o),
-          m_ff(m_tree.geometry(), &visibility, growing_list_factors(o.form_factors)),
+          m_ff(m_tree.geometry(), &visibility, with_rays_only(with_default_rays(o.form_factors, kRefinementRays))),
           m_start(std::chrono::steady_clock::now()) {
         if (patches.empty()) throw std::invalid_argument("adaptive subdivision: no patches");
     }

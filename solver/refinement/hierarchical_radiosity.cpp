@@ -185,9 +185,8 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     SolveResult& res = out.result;
     res.solver = "hierarchical";
     res.form_factors = "raycast";
-    FormFactorOptions link_factors = with_default_rays(options.form_factors, kRefinementRays);
+    FormFactorOptions link_factors = with_rays_only(with_default_rays(options.form_factors, kRefinementRays));
     link_factors.unoccluded_tolerance = std::max(link_factors.unoccluded_tolerance, options.link_factor_tolerance);
-    link_factors.clip_above = 0;  // the element list grows as links refine; shadows are clipped over a fixed list
     const RaycastFormFactor ff(tree.geometry(), &visibility, link_factors);
     std::optional<ClusterTree> clusters;
     if (options.clustering) {
