@@ -200,7 +200,7 @@ void add_form_factor_options(CLI::App* cmd, FormFactorOptions& f) {
         ->check(in_range(0, 4096));
     cmd->add_option("--clip-above", f.clip_above,
                     "raycast: pairs whose unoccluded factor is at least this and that a blocker may hide take "
-                    "the blockers' exact shadows instead of rays; 0: rays for every pair (0.02)")
+                    "the blockers' exact shadows instead of rays; 0: rays for every pair (0.1)")
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--receiver-samples", f.receiver_samples,
                     "points per side of each receiver (raycast); 0: adaptive (0)")

@@ -178,7 +178,8 @@ double ExactFormFactor::weighted_rays(const Patch& r, const Patch& s, double uno
     double prev = 0.0, hidden = 0.0;
     error = unoccluded;
     constexpr int orders[] = {2, 3, 4};
-    for (int l = 0; l < 3; ++l) {
+    const int last = std::clamp(m_options.visibility_levels, 1, 3);
+    for (int l = 0; l < last; ++l) {
         polygon_quadrature(rc, 1, orders[l], qr);
         polygon_quadrature(sc, 1, orders[l], qs);
         double sum = 0.0;
@@ -233,7 +234,8 @@ double ExactFormFactor::partial(const Patch& r, const Patch& s, std::span<const 
     constexpr int levels[][2] = {{4, 2}, {4, 4}, {4, 8}, {8, 8}, {16, 8}};
     double prev = 0.0, blocked = 0.0;
     error = unoccluded;
-    for (int l = 0; l < 5; ++l) {
+    const int last = std::clamp(m_options.visibility_levels, 1, 5);
+    for (int l = 0; l < last; ++l) {
         polygon_quadrature(rc, levels[l][0], levels[l][1], q);
         double sum = 0.0;
         for (const auto& p : q) {

@@ -36,6 +36,8 @@ struct FormFactorOptions {
     double exact_tolerance = 1e-8;       // exact method: relative error of unoccluded pairs
     double visibility_tolerance = 1e-3;  // exact method: partial pairs stop when two orders agree
                                          // within this fraction of the unoccluded factor
+    int visibility_levels = 5;           // exact method: most quadrature levels of a partial pair
+                                         // (1-5; kernel-weighted rays take at most 3 orders)
     /// Raycast: a pilot of visibility_rays rays picks the partly blocked pairs, which are then
     /// traced with this many fresh rays (the others with visibility_rays fresh ones); 0 or no
     /// more than visibility_rays: no pilot. Two rays can only say 0, 1/2 or 1; more rays on
@@ -46,8 +48,11 @@ struct FormFactorOptions {
     /// which the shaft's plane test does not clear, takes the exact method's visibility
     /// instead of rays (its candidate blockers' shadows clipped out of the source,
     /// ExactFormFactor): a few rays can only say 0, 1/2 or 1, and on large near pairs that is
-    /// most of the factor. 0 or above 1: rays for every pair.
-    double clip_above = 0.02;
+    /// most of the factor. 0 or above 1: rays for every pair. These pairs take the first two
+    /// quadrature levels (visibility_levels 2): the clipped shadow is exact at every point, so
+    /// the coarse levels already hold the ray noise far below the rays', and deeper levels
+    /// cost a multiple of the whole solve on furnished rooms of large triangles.
+    double clip_above = 0.1;
 };
 
 /// `o` with visibility_rays 0 (the default) replaced by `rays`.

@@ -65,6 +65,12 @@ double weighted_open_fraction(const Visibility& visibility, std::span<const Visi
     return total > 0.0 ? open / total : double(open_count) / double(rays.size());
 }
 
+/// The exact method's settings for the pairs raycast clips (FormFactorOptions::clip_above).
+FormFactorOptions clipper_options(FormFactorOptions o) {
+    o.visibility_levels = 2;
+    return o;
+}
+
 }  // namespace
 
 RaycastFormFactor::RaycastFormFactor(const std::vector<Patch>& patches, const Visibility* visibility,
@@ -77,7 +83,7 @@ RaycastFormFactor::RaycastFormFactor(const std::vector<Patch>& patches, const Vi
       m_culler(visibility && !visibility->has_occluders() ? std::make_unique<ShaftCuller>(patches) : nullptr),
       m_clip_count(patches.size()),
       m_clipper(m_culler && options.receiver_samples == 0 && options.clip_above > 0 && options.clip_above <= 1
-                    ? std::make_unique<ExactFormFactor>(patches, true, options, visibility)
+                    ? std::make_unique<ExactFormFactor>(patches, true, clipper_options(options), visibility)
                     : nullptr) {
     if (m_options.visibility_rays < 1) throw std::invalid_argument("visibility rays must be at least 1");
     // (m_unoccluded has checked the tolerance.)

@@ -204,8 +204,8 @@ TEST(Office, BadArgumentsFailWithOneLine) {
 // A closed office keeps its energy: emitted = absorbed + escaped + unshot to rounding, and
 // nothing escapes when the solve works on open parts (open_parts.h): a floor patch under a
 // cabinet's open underside sends only from its open part, and every closed part's row sends
-// all its light. On whole patches the same solve loses a share (the rows' sampling and the
-// buried parts' rays), kept as the contrast.
+// all its light. On whole patches the same solve fails that 0.1% bar (the rows' sampling and
+// the buried parts' rays), kept as the contrast.
 // (On this scene contour_form_factor's adaptive Gauss-Kronrod once recursed without end for two
 // facets of one chair's legs; its recursion is now bounded, see PolygonFormFactor tests.)
 TEST(Office, ClosedOfficeConservesEnergy) {
@@ -236,7 +236,7 @@ TEST(Office, ClosedOfficeConservesEnergy) {
         const double e = r.emitted_power[c];
         EXPECT_NEAR((r.absorbed_power[c] + r.escaped_power[c] + r.unshot_power[c]) / e, 1.0, 1e-9);
         EXPECT_LT(std::abs(r.escaped_power[c]) / e, 1e-3) << "channel " << c;  // issue 34: 0.1%
-        EXPECT_GT(whole.escaped_power[c] / whole.emitted_power[c], 1e-2) << "channel " << c;
+        EXPECT_GT(whole.escaped_power[c] / whole.emitted_power[c], 1e-3) << "channel " << c;
     }
     std::printf("closed office on whole patches: escaped/emitted %.3g %.3g %.3g\n",
                 whole.escaped_power[0] / whole.emitted_power[0], whole.escaped_power[1] / whole.emitted_power[1],

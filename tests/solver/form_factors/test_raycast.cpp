@@ -477,9 +477,9 @@ TEST(RaycastFormFactor, PartlyBlockedPairsGetMoreRaysWithoutBias) {
 TEST(RaycastFormFactor, LargePartlyBlockedPairsTakeTheBlockersExactShadows) {
     // Whole surfaces (one patch each) and the default options: the pair's unoccluded factor,
     // 0.1998, is above clip_above, so its visibility is the blocker's shadow clipped out of the
-    // source at quadrature points on the receiver, not two rays (which give 0, 0.0999 or 0.1998).
-    // Issue 34 asks for 1e-4; the shadow clipping reaches about 1e-8, the same for every seed,
-    // and both ways round by reciprocity.
+    // source at quadrature points on the receiver (the exact method's first two levels), not
+    // two rays (which give 0, 0.0999 or 0.1998). Issue 34 asks for 1e-4; the shadow clipping is
+    // within 1e-6, the same for every seed, and both ways round by reciprocity.
     const PatchMesh whole(asymmetric_blocker(), MeshingOptions{.subdivide = false});
     ASSERT_EQ(whole.size(), 3u);
     const auto vis = make_visibility("embree", whole.patches());
