@@ -153,7 +153,7 @@ ExactFormFactor::ExactFormFactor(const std::vector<Patch>& patches, bool occlusi
                                  const Visibility* rays)
     : m_patches(patches),
       m_culler(occlusion ? std::make_unique<ShaftCuller>(patches) : nullptr),
-      m_solids(occlusion ? std::make_unique<ConvexBlockers>(patches) : nullptr),
+      m_solids(occlusion ? std::make_unique<ConvexBlockers>(patches, options.flat_shadows) : nullptr),
       m_rays(rays),
       m_options(options) {
     if (!(options.exact_tolerance > 0) || !(options.visibility_tolerance > 0))

@@ -40,7 +40,7 @@ struct PairTally {
 ///   with orders 2, 4, 8 per cell of 4 x 4 cells, then 8 per cell of 8 x 8 and 16 x 16 cells,
 ///   until two agree within `visibility_tolerance` of F_unoccluded (the last difference is the
 ///   pair's error estimate). A pair whose source is hidden from every point is 0. Candidates that belong
-///   to one convex solid (ConvexBlockers: a block, a box) cast that solid's single convex
+///   to one convex solid (ConvexBlockers: a block, a box, a tiled convex surface) cast that solid's single convex
 ///   shadow, and a solid holding either end of the pair is dropped (both face out of it).
 ///   Pairs with more than kMaxClippedBlockers shadows (solids and loose patches) use
 ///   kernel-weighted rays instead (weighted_rays).

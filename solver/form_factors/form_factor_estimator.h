@@ -38,6 +38,8 @@ struct FormFactorOptions {
                                          // within this fraction of the unoccluded factor
     int visibility_levels = 5;           // exact method: most quadrature levels of a partial pair
                                          // (1-5; kernel-weighted rays take at most 3 orders)
+    bool flat_shadows = true;            // exact method: a surface's patches that tile a convex
+                                         // polygon cast one shadow (ConvexBlockers)
     /// Raycast: a pilot of visibility_rays rays picks the partly blocked pairs, which are then
     /// traced with this many fresh rays (the others with visibility_rays fresh ones); 0 or no
     /// more than visibility_rays: no pilot. Two rays can only say 0, 1/2 or 1; more rays on
@@ -51,7 +53,9 @@ struct FormFactorOptions {
     /// most of the factor. 0 or above 1: rays for every pair. These pairs take the first two
     /// quadrature levels (visibility_levels 2): the clipped shadow is exact at every point, so
     /// the coarse levels already hold the ray noise far below the rays', and deeper levels
-    /// cost a multiple of the whole solve on furnished rooms of large triangles.
+    /// cost a multiple of the whole solve on furnished rooms of large triangles. For the same
+    /// reason they keep loose patches' shadows (flat_shadows false): a tiled surface's one shadow
+    /// would move pairs from the kernel-weighted rays to the dearer clipping.
     double clip_above = 0.1;
 };
 

@@ -68,6 +68,7 @@ double weighted_open_fraction(const Visibility& visibility, std::span<const Visi
 /// The exact method's settings for the pairs raycast clips (FormFactorOptions::clip_above).
 FormFactorOptions clipper_options(FormFactorOptions o) {
     o.visibility_levels = 2;
+    o.flat_shadows = false;
     return o;
 }
 

@@ -40,9 +40,52 @@ bool same_plane(const Plane& a, const Plane& b, double tol) {
 
 glm::dvec3 to_glm(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
+/// A surface cut into several patches on one plane, which tile a convex polygon without holes:
+/// its outline as a flat solid (corners counter-clockwise about the plane's normal, edges round
+/// them), or false.
+bool make_flat(const Plane& plane, const std::vector<glm::dvec3>& points, double member_area,
+               ConvexBlockers::Solid& out) {
+    const glm::dvec3 u = glm::normalize(std::abs(plane.n.x) < 0.9 ? glm::cross(plane.n, glm::dvec3(1, 0, 0))
+                                                                  : glm::cross(plane.n, glm::dvec3(0, 1, 0)));
+    const glm::dvec3 v = glm::cross(plane.n, u);
+    std::vector<std::size_t> order(points.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    const auto uv = [&](std::size_t k) {
+        return std::array<double, 2>{glm::dot(points[k], u), glm::dot(points[k], v)};
+    };
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return uv(a) < uv(b); });
+    const auto turn = [&](std::size_t a, std::size_t b, std::size_t c) {
+        const auto pa = uv(a), pb = uv(b), pc = uv(c);
+        return (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
+    };
+    // Andrew's monotone chain; collinear points (a tiled edge's inner vertices) are dropped.
+    std::vector<std::size_t> hull(2 * points.size());
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        while (k >= 2 && turn(hull[k - 2], hull[k - 1], order[i]) <= 0.0) --k;
+        hull[k++] = order[i];
+    }
+    for (std::size_t i = order.size() - 1, lower = k + 1; i-- > 0;) {
+        while (k >= lower && turn(hull[k - 2], hull[k - 1], order[i]) <= 0.0) --k;
+        hull[k++] = order[i];
+    }
+    if (k < 4) return false;
+    hull.resize(k - 1);  // the last repeats the first
+    double area = 0.0;
+    for (std::size_t i = 0; i < hull.size(); ++i) area += 0.5 * turn(hull[0], hull[i], hull[(i + 1) % hull.size()]);
+    // The members cover the outline: no hole, no notch (a contact cut's missing piece).
+    if (!(area > 0.0) || std::abs(member_area - area) > 1e-6 * area) return false;
+    for (std::size_t i = 0; i < hull.size(); ++i) {
+        out.corners.push_back(points[hull[i]]);
+        out.edges.emplace_back(std::uint32_t(i), std::uint32_t((i + 1) % hull.size()));
+    }
+    out.flat = true;
+    return true;
+}
+
 /// The solid the members form, or false (see ConvexBlockers).
 bool make_solid(const std::vector<Patch>& patches, const std::vector<std::uint32_t>& members,
-                const std::vector<std::uint8_t>& is_member, double tol, ConvexBlockers::Solid& out) {
+                const std::vector<std::uint8_t>& is_member, double tol, bool flat, ConvexBlockers::Solid& out) {
     std::vector<Plane> planes;  // distinct member planes, with the members' area on each
     std::vector<double> member_area;
     std::vector<glm::dvec3> points;
@@ -58,7 +101,7 @@ bool make_solid(const std::vector<Patch>& patches, const std::vector<std::uint32
         member_area[k] += p.area;
         for (int v = 0; v < p.vertex_count; ++v) points.push_back(p.vertices[v]);
     }
-    if (planes.size() < 2) return false;  // flat: one plane cannot enclose anything
+    if (planes.size() < 2) return flat && members.size() > 1 && make_flat(planes[0], points, member_area[0], out);
     // Convex: every vertex behind (or on) every member plane, so the normals face out.
     for (const auto& pl : planes)
         for (const auto& x : points)
@@ -112,7 +155,7 @@ bool make_solid(const std::vector<Patch>& patches, const std::vector<std::uint32
 
 }  // namespace
 
-ConvexBlockers::ConvexBlockers(const std::vector<Patch>& patches) : m_solid_of(patches.size(), -1) {
+ConvexBlockers::ConvexBlockers(const std::vector<Patch>& patches, bool flat) : m_solid_of(patches.size(), -1) {
     if (patches.empty()) return;
     glm::dvec3 lo(1e300), hi(-1e300);
     for (const auto& p : patches)
@@ -145,7 +188,7 @@ ConvexBlockers::ConvexBlockers(const std::vector<Patch>& patches) : m_solid_of(p
     for (const auto& [root, members] : groups) {
         for (const auto i : members) is_member[i] = 1;
         Solid s;
-        if (make_solid(patches, members, is_member, tol, s)) {
+        if (make_solid(patches, members, is_member, tol, flat, s)) {
             for (const auto i : members) m_solid_of[i] = std::int32_t(m_solids.size());
             m_solids.push_back(std::move(s));
         }

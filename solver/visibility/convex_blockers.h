@@ -22,14 +22,19 @@ namespace bounce {
 /// vertices lies behind every member plane, and its hull is closed: each hull facet is covered
 /// by members, or rests on a surface of the scene that faces it (a block's missing bottom on
 /// the floor), so no segment between two other patches can pass through the hull without
-/// crossing a member. Anything else stays a single patch.
+/// crossing a member. A surface cut into several patches on one plane that tile a convex
+/// polygon is a flat solid (its outline): a segment that crosses the polygon crosses a member,
+/// so a blocker cut 16 x 16 is one shadow, not 256. Anything else stays a single patch.
 class ConvexBlockers {
 public:
-    explicit ConvexBlockers(const std::vector<Patch>& patches);
+    /// `flat`: also make flat solids of tiled convex surfaces (one shadow where the rays'
+    /// fallback would see many; more of a scene's pairs are then clipped, at more cost).
+    explicit ConvexBlockers(const std::vector<Patch>& patches, bool flat = true);
 
     struct Solid {
         std::vector<glm::dvec3> corners;                             // the hull's vertices
         std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;  // the hull's edges, as corner indices
+        bool flat = false;  // one plane: a tiled convex polygon, its corners in order round it
     };
     /// The solid patch i belongs to, or -1.
     std::int32_t solid_of(std::size_t i) const { return m_solid_of[i]; }

@@ -149,6 +149,44 @@ TEST(ExactFormFactor, AsymmetricBlockerCut16x16Within1e4) {
     EXPECT_LT(std::abs(f - 0.140126989), 1e-4);
 }
 
+TEST(ExactFormFactor, AsymmetricBlockerEverySurfaceCut16x16Within1e6) {
+    // The plates and the blocker each cut 16 x 16: the blocker's 256 patches tile one convex
+    // rectangle, so they cast one flat shadow (ConvexBlockers) and every pair is clipped, where
+    // more than two loose candidate shadows would fall back to kernel-weighted rays (1.5e-4).
+    MeshingOptions o;
+    o.max_edge = 1.0 / 16 * (1 + 1e-9);
+    std::vector<Patch> patches = PatchMesh(parallel_pair(1, 1, 1), o).patches();
+    // The blocker [0.1,0.6]x[0.2,0.55] at z = 0.4: a unit square cut 16 x 16, then scaled.
+    Scene unit;
+    unit.materials = {{"w", Rgb::gray(0.5), Rgb()}};
+    unit.surfaces.push_back({{{0, 0, 0.4}, {1, 0, 0.4}, {1, 1, 0.4}, {0, 1, 0.4}}, 0, "blocker", {"test", 0}});
+    for (Patch p : PatchMesh(unit, o).patches()) {
+        for (int k = 0; k < p.vertex_count; ++k)
+            p.vertices[std::size_t(k)] = {0.1 + 0.5 * p.vertices[std::size_t(k)].x,
+                                          0.2 + 0.35 * p.vertices[std::size_t(k)].y, 0.4};
+        p.centre = {0.1 + 0.5 * p.centre.x, 0.2 + 0.35 * p.centre.y, 0.4};
+        p.area *= 0.5 * 0.35;
+        p.surface = 2;
+        patches.push_back(p);
+    }
+    ASSERT_EQ(patches.size(), 3u * 256u);
+    const ExactFormFactor ff(patches, true, {}, nullptr);
+    const auto rays = make_visibility("embree", patches);
+    const ExactFormFactor with_rays(patches, true, {}, rays.get());
+    double num = 0, num_rays = 0, area = 0;
+    for (std::size_t i = 0; i < 256; ++i) {
+        area += patches[i].area;
+        for (std::size_t j = 256; j < 512; ++j) {
+            num += patches[i].area * ff.pair(i, j);
+            num_rays += patches[i].area * with_rays.pair(i, j);
+        }
+    }
+    std::printf("asymmetric blocker, every surface cut 16 x 16: %.9f (error %.2g), with a ray backend %.2g\n",
+                num / area, std::abs(num / area - 0.140126989), std::abs(num_rays / area - 0.140126989));
+    EXPECT_LT(std::abs(num / area - 0.140126989), 1e-6);
+    EXPECT_LT(std::abs(num_rays / area - 0.140126989), 1e-6);  // no pair has more than one shadow
+}
+
 TEST(ExactFormFactor, CubeRowsSumToOneAndAreReciprocal) {
     // Each face cut n x n: every row within 1e-9 of 1 and reciprocity to rounding. Each
     // unordered pair is computed once (in double; float storage would round entries to 6e-8)
@@ -229,11 +267,46 @@ TEST(ConvexBlockers, TheCornellBlocksAreSolidsAndNothingElseIs) {
     const PatchMesh mesh(s, MeshingOptions{});
     const auto& P = mesh.patches();
     const ConvexBlockers solids(P);
-    EXPECT_EQ(solids.solid_count(), 2u);
+    std::size_t closed = 0;
+    for (std::size_t k = 0; k < solids.solid_count(); ++k) closed += !solids.solid(k).flat;
+    EXPECT_EQ(closed, 2u);
     for (std::size_t i = 0; i < P.size(); ++i) {
-        const bool block = s.surfaces[std::size_t(P[i].surface)].object.find("block") != std::string::npos;
-        EXPECT_EQ(solids.solid_of(i) >= 0, block) << i << " " << s.surfaces[std::size_t(P[i].surface)].object;
+        const auto& surface = s.surfaces[std::size_t(P[i].surface)];
+        const bool block = surface.object.find("block") != std::string::npos;
+        const std::int32_t k = solids.solid_of(i);
+        EXPECT_EQ(k >= 0 && !solids.solid(std::size_t(k)).flat, block) << i << " " << surface.object;
+        // The walls are cut into patches on one plane, each tiling its rectangle: flat solids.
+        // The floor and the ceiling are not: the blocks' footprints and the lamp's are cut out.
+        if (!block)
+            EXPECT_EQ(k >= 0, surface.object != "floor" && surface.object != "ceiling") << i << " " << surface.object;
     }
+}
+
+TEST(ConvexBlockers, ATiledConvexSurfaceIsOneFlatShadow) {
+    // The asymmetric blocker cut 16 x 12: one flat solid, whose shadow from a point above is
+    // the blocker's rectangle projected. (A notched surface is none: the Cornell floor above.)
+    Scene s = blocker_scene(0.1, 0.6, 0.2, 0.55, 0.4);
+    MeshingOptions o;
+    o.max_edge = 0.5 / 16 * (1 + 1e-9);
+    const PatchMesh mesh(s, o);
+    const ConvexBlockers solids(mesh.patches());
+    std::int32_t blocker = -1;
+    std::size_t members = 0;
+    for (std::size_t i = 0; i < mesh.size(); ++i)
+        if (mesh.patches()[i].surface == 2) {
+            blocker = solids.solid_of(i);
+            ++members;
+        }
+    ASSERT_GT(members, 100u);
+    ASSERT_GE(blocker, 0);
+    const auto& flat = solids.solid(std::size_t(blocker));
+    EXPECT_TRUE(flat.flat);
+    EXPECT_EQ(flat.corners.size(), 4u);  // the tiles' inner vertices are no corners
+    std::vector<glm::dvec3> shadow;
+    convex_shadow(flat, {0.35, 0.375, 0.8}, {0, 0, 0}, {0, 0, 1}, shadow);
+    glm::dvec3 twice(0.0);
+    for (std::size_t k = 0; k < shadow.size(); ++k) twice += glm::cross(shadow[k], shadow[(k + 1) % shadow.size()]);
+    EXPECT_NEAR(0.5 * twice.z, 0.5 * 0.35 * 4.0, 1e-12);  // scaled by 0.8 / (0.8 - 0.4) each way
 }
 
 TEST(ConvexBlockers, AnOpenBoxIsNoSolidUnlessItsOpenFaceRestsOnASurface) {
@@ -254,9 +327,12 @@ TEST(ConvexBlockers, AnOpenBoxIsNoSolidUnlessItsOpenFaceRestsOnASurface) {
     standing.surfaces.push_back({{{-1, -1, 0}, {2, -1, 0}, {2, 2, 0}, {-1, 2, 0}}, 0, "floor", {"test", 0}});
     const PatchMesh on_floor(standing, o);
     const ConvexBlockers found(on_floor.patches());
-    ASSERT_EQ(found.solid_count(), 1u);
-    for (std::size_t i = 0; i < on_floor.size(); ++i)
-        EXPECT_EQ(found.solid_of(i) >= 0, on_floor.patches()[i].centre.z > 1e-9) << i;  // the floor is no member
+    ASSERT_EQ(found.solid_count(), 2u);  // the box, and the floor as a flat solid
+    for (std::size_t i = 0; i < on_floor.size(); ++i) {
+        const std::int32_t k = found.solid_of(i);
+        ASSERT_GE(k, 0) << i;
+        EXPECT_EQ(found.solid(std::size_t(k)).flat, on_floor.patches()[i].centre.z < 1e-9) << i;  // the floor apart
+    }
 }
 
 TEST(ConvexBlockers, ASolidsShadowEqualsItsFacesShadowsAndTheProjection) {
