@@ -40,39 +40,55 @@ bool same_plane(const Plane& a, const Plane& b, double tol) {
 
 glm::dvec3 to_glm(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
+/// Two unit vectors that span the plane with unit normal m (with m, a right-handed frame).
+std::pair<glm::dvec3, glm::dvec3> plane_basis(const glm::dvec3& m) {
+    const glm::dvec3 u =
+        glm::normalize(std::abs(m.x) < 0.9 ? glm::cross(m, glm::dvec3(1, 0, 0)) : glm::cross(m, glm::dvec3(0, 1, 0)));
+    return {u, glm::cross(m, u)};
+}
+
+/// Twice the signed area of the triangle a, b, c in the plane (positive: counter-clockwise).
+double turn(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/// The convex hull of the points p in the plane (Andrew's monotone chain): their indices
+/// counter-clockwise in `hull`, collinear points dropped; empty when fewer than 3 distinct
+/// corners. `order` is scratch space.
+void convex_hull_2d(const std::vector<std::array<double, 2>>& p, std::vector<std::uint32_t>& order,
+                    std::vector<std::uint32_t>& hull) {
+    hull.clear();
+    if (p.size() < 3) return;
+    order.resize(p.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return p[a] < p[b]; });
+    hull.assign(2 * p.size(), 0);
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        while (k >= 2 && turn(p[hull[k - 2]], p[hull[k - 1]], p[order[i]]) <= 0.0) --k;
+        hull[k++] = order[i];
+    }
+    for (std::size_t i = order.size() - 1, lower = k + 1; i-- > 0;) {
+        while (k >= lower && turn(p[hull[k - 2]], p[hull[k - 1]], p[order[i]]) <= 0.0) --k;
+        hull[k++] = order[i];
+    }
+    hull.resize(k < 4 ? 0 : k - 1);  // the last repeats the first
+}
+
 /// A surface cut into several patches on one plane, which tile a convex polygon without holes:
 /// its outline as a flat solid (corners counter-clockwise about the plane's normal, edges round
 /// them), or false.
 bool make_flat(const Plane& plane, const std::vector<glm::dvec3>& points, double member_area,
                ConvexBlockers::Solid& out) {
-    const glm::dvec3 u = glm::normalize(std::abs(plane.n.x) < 0.9 ? glm::cross(plane.n, glm::dvec3(1, 0, 0))
-                                                                  : glm::cross(plane.n, glm::dvec3(0, 1, 0)));
-    const glm::dvec3 v = glm::cross(plane.n, u);
-    std::vector<std::size_t> order(points.size());
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    const auto uv = [&](std::size_t k) {
-        return std::array<double, 2>{glm::dot(points[k], u), glm::dot(points[k], v)};
-    };
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return uv(a) < uv(b); });
-    const auto turn = [&](std::size_t a, std::size_t b, std::size_t c) {
-        const auto pa = uv(a), pb = uv(b), pc = uv(c);
-        return (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
-    };
-    // Andrew's monotone chain; collinear points (a tiled edge's inner vertices) are dropped.
-    std::vector<std::size_t> hull(2 * points.size());
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < order.size(); ++i) {
-        while (k >= 2 && turn(hull[k - 2], hull[k - 1], order[i]) <= 0.0) --k;
-        hull[k++] = order[i];
-    }
-    for (std::size_t i = order.size() - 1, lower = k + 1; i-- > 0;) {
-        while (k >= lower && turn(hull[k - 2], hull[k - 1], order[i]) <= 0.0) --k;
-        hull[k++] = order[i];
-    }
-    if (k < 4) return false;
-    hull.resize(k - 1);  // the last repeats the first
+    const auto [u, v] = plane_basis(plane.n);
+    std::vector<std::array<double, 2>> p2(points.size());
+    for (std::size_t k = 0; k < points.size(); ++k) p2[k] = {glm::dot(points[k], u), glm::dot(points[k], v)};
+    std::vector<std::uint32_t> order, hull;
+    convex_hull_2d(p2, order, hull);  // a tiled edge's inner vertices are dropped as collinear
+    if (hull.empty()) return false;
     double area = 0.0;
-    for (std::size_t i = 0; i < hull.size(); ++i) area += 0.5 * turn(hull[0], hull[i], hull[(i + 1) % hull.size()]);
+    for (std::size_t i = 0; i < hull.size(); ++i)
+        area += 0.5 * turn(p2[hull[0]], p2[hull[i]], p2[hull[(i + 1) % hull.size()]]);
     // The members cover the outline: no hole, no notch (a contact cut's missing piece).
     if (!(area > 0.0) || std::abs(member_area - area) > 1e-6 * area) return false;
     for (std::size_t i = 0; i < hull.size(); ++i) {
@@ -219,34 +235,14 @@ void convex_shadow(const ConvexBlockers::Solid& solid, const glm::dvec3& x, cons
             if ((ha - level) * (hb - level) < 0.0) project(pa + (pb - pa) * ((level - ha) / (hb - ha)), level);
     }
     if (pts.size() < 3) return;
-    // Convex hull in the plane (Andrew's monotone chain), counter-clockwise about m.
-    const glm::dvec3 u =
-        glm::normalize(std::abs(m.x) < 0.9 ? glm::cross(m, glm::dvec3(1, 0, 0)) : glm::cross(m, glm::dvec3(0, 1, 0)));
-    const glm::dvec3 v = glm::cross(m, u);
+    // Convex hull in the plane, counter-clockwise about m.
+    const auto [u, v] = plane_basis(m);
     thread_local std::vector<std::array<double, 2>> p2;
     thread_local std::vector<std::uint32_t> order, chain;
     p2.resize(pts.size());
-    order.resize(pts.size());
-    for (std::size_t k = 0; k < pts.size(); ++k) {
-        p2[k] = {glm::dot(pts[k] - o, u), glm::dot(pts[k] - o, v)};
-        order[k] = std::uint32_t(k);
-    }
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return p2[a] < p2[b]; });
-    const auto cross = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        return (p2[b][0] - p2[a][0]) * (p2[c][1] - p2[a][1]) - (p2[b][1] - p2[a][1]) * (p2[c][0] - p2[a][0]);
-    };
-    chain.assign(2 * pts.size(), 0);
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < order.size(); ++i) {
-        while (k >= 2 && cross(chain[k - 2], chain[k - 1], order[i]) <= 0.0) --k;
-        chain[k++] = order[i];
-    }
-    for (std::size_t i = order.size() - 1, lower = k + 1; i-- > 0;) {
-        while (k >= lower && cross(chain[k - 2], chain[k - 1], order[i]) <= 0.0) --k;
-        chain[k++] = order[i];
-    }
-    if (k < 4) return;  // fewer than 3 distinct corners (the last repeats the first)
-    for (std::size_t i = 0; i + 1 < k; ++i) out.push_back(pts[chain[i]]);
+    for (std::size_t k = 0; k < pts.size(); ++k) p2[k] = {glm::dot(pts[k] - o, u), glm::dot(pts[k] - o, v)};
+    convex_hull_2d(p2, order, chain);
+    for (const std::uint32_t k : chain) out.push_back(pts[k]);
 }
 
 }  // namespace bounce
