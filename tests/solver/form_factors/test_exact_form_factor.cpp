@@ -160,7 +160,8 @@ TEST(ExactFormFactor, AsymmetricBlockerEverySurfaceCut16x16Within1e6) {
     Scene unit;
     unit.materials = {{"w", Rgb::gray(0.5), Rgb()}};
     unit.surfaces.push_back({{{0, 0, 0.4}, {1, 0, 0.4}, {1, 1, 0.4}, {0, 1, 0.4}}, 0, "blocker", {"test", 0}});
-    for (Patch p : PatchMesh(unit, o).patches()) {
+    const PatchMesh unit_mesh(unit, o);  // named: a temporary would die before the loop runs
+    for (Patch p : unit_mesh.patches()) {
         for (int k = 0; k < p.vertex_count; ++k)
             p.vertices[std::size_t(k)] = {0.1 + 0.5 * p.vertices[std::size_t(k)].x,
                                           0.2 + 0.35 * p.vertices[std::size_t(k)].y, 0.4};
