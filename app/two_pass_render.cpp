@@ -7,23 +7,16 @@
 #include <memory>
 #include <optional>
 
-#include "app/point_values.h"
 #include "app/progress_line.h"
 #include "app/signals.h"
 #include "mesh/meshing/patch_mesh.h"
+#include "mesh/scene/errors.h"
 #include "mesh/scene/input_error.h"
-#include "mesh/scene/specular_occluders.h"
-#include "solver/form_factors/balanced_form_factors.h"
-#include "solver/form_factors/form_factor_estimator.h"
-#include "solver/form_factors/form_factor_matrix.h"
-#include "solver/form_factors/open_parts.h"
-#include "solver/gather/patch_display_refinement.h"
-#include "solver/linear/shooting_solver.h"
+#include "solver/pipeline/solve_scene.h"
 #include "solver/two_pass/caustic_map.h"
 #include "solver/two_pass/eye_pass.h"
 #include "solver/two_pass/patch_scene_tracer.h"
 #include "solver/two_pass/spread_photon_light.h"
-#include "solver/visibility/visibility.h"
 #include "viewer/eye_picture.h"
 #include "viewer/pending_output.h"
 
@@ -65,47 +58,14 @@ constexpr double kSpreadRadius = 0.05;
 /// to the patches they reach, the caustic map, and the point data the eye pass interpolates.
 struct LightPass {
     SolveResult res;
-    std::vector<Rgb> caustic_radiosity;     // rho Phi / A: the light the photons reflect off each patch
-    std::unique_ptr<CausticMap> caustics;   // the photons the eye pass estimates from; none without photons
-    std::unique_ptr<CausticMap> spread;     // the diverging photons, estimated at the vertices
-    SolveResult shown;                      // res over the patches, less the caustic term: the picture's exposure
-    std::unique_ptr<PatchMesh> cells;       // the mesh the point data is over: the patches or their display cells
-    std::vector<Rgb> vertex, patch_values;  // B per vertex (without the caustic term) and per cell of `cells`
+    std::vector<Rgb> caustic_radiosity;      // rho Phi / A: the light the photons reflect off each patch
+    std::unique_ptr<CausticMap> caustics;    // the photons the eye pass estimates from; none without photons
+    std::unique_ptr<CausticMap> spread;      // the diverging photons, estimated at the vertices
+    SolveResult shown;                       // res over the patches, less the caustic term: the picture's exposure
+    std::shared_ptr<const PatchMesh> cells;  // the mesh the point data is over: the patches or their display cells
+    std::vector<Rgb> vertex, patch_values;   // B per vertex (without the caustic term) and per cell of `cells`
     std::size_t emitted = 0;
     double specular_first = 0;
-};
-
-/// The radiosity system of the light pass, built once and solved for each round of photons,
-/// as `bounce solve` solves a patch mesh: the patches' open parts (open_parts.h), and the
-/// form-factor rows balanced to them (balanced_form_factors.h) when the whole matrix fits the
-/// shooting solver's row cache; else rows on demand.
-struct LightSystem {
-    std::vector<OpenPart> open;
-    std::unique_ptr<FormFactorEstimator> rays;
-    std::optional<FormFactorMatrix> matrix;
-    std::unique_ptr<MatrixFormFactor> balanced;
-
-    LightSystem(const Scene& scene, const std::vector<Patch>& P, const Visibility& visibility) {
-        rays = make_form_factor_estimator("raycast", P, &visibility, {});
-        open = open_parts(P, visibility, 4, 16, 1, &g_interrupted, scene.covered);
-        if (FormFactorMatrix::bytes_for(P.size()) <= (SolverOptions{}.cache_mb << 20)) {
-            matrix = balance_form_factors(
-                FormFactorMatrix::build(*rays, P.size(), SolverOptions{}.cache_mb << 20, {}, &g_interrupted), P, open);
-            balanced = std::make_unique<MatrixFormFactor>(*matrix, "raycast");
-        }
-    }
-
-    /// Shooting from the patches `lit` (the mesh's, with the photons' reflected light added to
-    /// their emission).
-    SolveResult solve(const std::vector<Patch>& lit) const {
-        ShootingOptions so;
-        so.cancel = &g_interrupted;
-        so.open_parts = &open;
-        if (balanced) so.cache_mb = 0;  // the rows are the matrix's
-        SolveResult r = ShootingSolver(lit, balanced ? *balanced : *rays, so).solve();
-        if (g_interrupted.load()) throw Interrupted("interrupted while solving the radiosity");
-        return r;
-    }
 };
 
 LightPass light_pass(const CommonOptions& o, const Scene& scene, const PatchMesh& mesh, const TwoPassOptions& t) {
@@ -139,31 +99,45 @@ LightPass light_pass(const CommonOptions& o, const Scene& scene, const PatchMesh
         lp.emitted += map.emitted();
         radius = map.radius();
     };
-    const auto visibility = make_visibility(o.visibility, P, specular_occluders(scene));
-    const LightSystem system(scene, P, *visibility);
-    if (g_interrupted.load()) throw Interrupted("interrupted while computing form factors");
-    auto solve = [&] {
-        std::vector<Patch> lit = P;
-        for (std::size_t p = 0; p < P.size(); ++p) lit[p].emission += lp.caustic_radiosity[p];
-        return system.solve(lit);
-    };
-    if (photons) {
-        const CausticMap lamps(mesh, tracer, co, &g_interrupted);
-        if (g_interrupted.load()) throw Interrupted("interrupted while tracing caustic photons");
-        lp.specular_first = lamps.specular_first_share();
-        add_photons(lamps, false);
-    }
-    lp.res = solve();
+    // The radiosity is bounce solve's (solve_scene, shooting with open parts, balanced rows and
+    // display cells); between its solves over the same form factors, the photon rounds add the
+    // light they hand to the patches (SolveHooks::added_emission).
+    SolveRequest request;
+    request.meshing = o.meshing;
+    request.visibility = o.visibility;
+    request.flip = o.flip;
+    request.display_tolerance = t.display_tolerance;
+    request.validate();
     // Rounds 2 and on: photons from every patch with the reflected radiosity it has not yet
     // sent through mirrors and glass (the first time all of B - E, then what the last solve
     // added), so light that goes through them twice or more is carried too.
     std::vector<Rgb> sent(P.size());
     double emitted_power = 0;
     for (const Patch& patch : P) emitted_power += patch.emission.sum() * patch.area;
-    for (int round = 2; photons && round <= t.rounds; ++round) {
+    int round = 1;
+    ProgressLine progress(!o.quiet);
+    SolveHooks hooks;
+    hooks.cancel = &g_interrupted;
+    hooks.mesh = [&](const MeshingOptions&) {
+        return std::shared_ptr<const PatchMesh>(std::shared_ptr<void>(), &mesh);
+    };
+    hooks.items = [&](const char* stage, std::size_t d, std::size_t n) { progress.items(stage, d, n); };
+    hooks.stage_end = [&] { progress.finish(); };
+    hooks.added_emission = [&](const SolveResult* so_far) -> std::optional<std::vector<Rgb>> {
+        if (!so_far) {
+            if (photons) {
+                const CausticMap lamps(mesh, tracer, co, &g_interrupted);
+                if (g_interrupted.load()) throw Interrupted("interrupted while tracing caustic photons");
+                lp.specular_first = lamps.specular_first_share();
+                add_photons(lamps, false);
+            }
+            return lp.caustic_radiosity;
+        }
+        lp.res = *so_far;
+        if (!photons || ++round > t.rounds) return std::nullopt;
         std::vector<Rgb> exitance(P.size());
         for (std::size_t p = 0; p < P.size(); ++p) {
-            Rgb reflected = lp.res.radiosity[p] - P[p].emission;
+            Rgb reflected = so_far->radiosity[p] - P[p].emission;
             for (int c = 0; c < 3; ++c) exitance[p][c] = std::max(0.0, reflected[c] - sent[p][c]);
             sent[p] += exitance[p];
         }
@@ -174,11 +148,17 @@ LightPass light_pass(const CommonOptions& o, const Scene& scene, const PatchMesh
         double power = 0;
         for (std::size_t p = 0; p < P.size(); ++p) power += exitance[p].sum() * P[p].area;
         co.photons = std::size_t(std::min(4.0, power / emitted_power) * double(t.photons));
-        if (co.photons == 0) break;
+        if (co.photons == 0) return std::nullopt;
         const CausticMap surfaces(mesh, tracer, co, &g_interrupted, &exitance);
         if (g_interrupted.load()) throw Interrupted("interrupted while tracing caustic photons");
         add_photons(surfaces, true);
-        lp.res = solve();
+        return lp.caustic_radiosity;
+    };
+    SolvedScene solved = solve_scene(scene, request, hooks);
+    if (g_interrupted.load()) throw Interrupted("interrupted while solving the radiosity");
+    if (!o.quiet) {
+        for (const auto& w : solved.warnings) std::cerr << "warning: " << w << "\n";
+        for (const auto& n : solved.notes) std::cerr << "note: " << n << "\n";
     }
     if (photons) {
         lp.caustics = std::make_unique<CausticMap>(std::move(stored), radius, P.size(), t.nearest);
@@ -192,11 +172,8 @@ LightPass light_pass(const CommonOptions& o, const Scene& scene, const PatchMesh
     // which the eye pass then shows.
     lp.shown = lp.res;
     for (std::size_t p = 0; p < P.size(); ++p) lp.shown.radiosity[p] -= lp.caustic_radiosity[p];
-    lp.cells = std::make_unique<PatchMesh>(mesh);
-    const bool gathered = gather_point_values(*lp.cells, *visibility, lp.res, "vertices",
-                                              PatchDisplayRefinement{t.display_tolerance}, o.quiet);
-    if (!gathered) lp.cells = std::make_unique<PatchMesh>(mesh);
-    lp.vertex = gathered ? lp.res.point_radiosity : area_weighted_vertex_values(mesh, lp.shown.radiosity);
+    lp.cells = solved.gathered ? solved.mesh : std::shared_ptr<const PatchMesh>(std::shared_ptr<void>(), &mesh);
+    lp.vertex = solved.gathered ? solved.result.point_radiosity : area_weighted_vertex_values(mesh, lp.shown.radiosity);
     if (lp.spread) {
         const auto light = spread_photon_light(*lp.spread, *lp.cells, PatchSceneTracer(scene, *lp.cells));
         for (std::size_t v = 0; v < lp.vertex.size(); ++v) lp.vertex[v] += light[v];

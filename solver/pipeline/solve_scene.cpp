@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <sstream>
+#include <stdexcept>
 #include <utility>
 
 #include "mesh/scene/errors.h"
@@ -242,10 +243,29 @@ std::string patch_settings(const SolveRequest& r, const SolverOptions& so, bool 
     return s.str();
 }
 
+/// Solves `patches` with hooks.added_emission's light added, as often as it asks (solve_scene.h).
+template <class Solve>
+SolveResult solve_with_added_emission(const std::vector<Patch>& patches, const SolveHooks& hooks, Solve&& solve) {
+    std::optional<std::vector<Rgb>> added = hooks.added_emission(nullptr);
+    SolveResult result;
+    do {
+        std::vector<Patch> lit = patches;
+        if (added) {
+            if (added->size() != patches.size())
+                throw std::invalid_argument("added_emission: one value per patch expected");
+            for (std::size_t p = 0; p < lit.size(); ++p) lit[p].emission += (*added)[p];
+        }
+        result = solve(lit);
+    } while (!cancelled(hooks) && (added = hooks.added_emission(&result)));
+    return result;
+}
+
 /// The solvers on a fixed mesh: the patches, or with element_split > 1 elements that receive
 /// from the patches that shoot (PatchToElementFormFactor).
 SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const SolveHooks& hooks) {
     const bool elements = r.element_split > 1;
+    if (elements && hooks.added_emission)
+        throw std::invalid_argument("added_emission: patch solvers on whole patches only (element_split 1)");
     MeshingOptions fine = r.meshing;
     fine.element_split = r.element_split;
     // Elements must tile their patches exactly (parents), so contact cuts go with split 1 only.
@@ -303,9 +323,6 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
         }
         if (open && matrix) matrix = open_part_matrix(*matrix, *open);
     }
-    // The matrix solvers see the open parts' areas; shooting reads whole patches' rows and
-    // scales them itself.
-    const std::vector<Patch> solved_patches = open && !shooting ? open_part_patches(P, *open) : std::vector<Patch>{};
     if (open) so.open_parts = &*open;
     out.patches = elements ? shooters->size() : mesh->size();
     out.settings = patch_settings(r, so, balance && (!shooting || balanced_rows), out.patches, *mesh);
@@ -318,14 +335,21 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
             hooks.snapshot(*mesh, out.settings, snap);
         };
     }
-    const auto solver = elements
-                            ? std::make_unique<ShootingSolver>(P, *ff, so, nullptr,
-                                                               ElementHierarchy{&shooters->patches(), &mesh->parents()})
-                            : make_solver(to_string(r.solver),
-                                          {solved_patches.empty() ? P : solved_patches,
-                                           balanced_rows ? balanced_rows.get() : ff.get(), matrix ? &*matrix : nullptr},
-                                          so);
-    out.result = solver->solve();
+    auto solve = [&](const std::vector<Patch>& patches) {
+        if (elements)
+            return ShootingSolver(patches, *ff, so, nullptr, ElementHierarchy{&shooters->patches(), &mesh->parents()})
+                .solve();
+        // The matrix solvers see the open parts' areas; shooting reads whole patches' rows and
+        // scales them itself.
+        const std::vector<Patch> open_patches =
+            open && !shooting ? open_part_patches(patches, *open) : std::vector<Patch>{};
+        return make_solver(to_string(r.solver),
+                           {open_patches.empty() ? patches : open_patches,
+                            balanced_rows ? balanced_rows.get() : ff.get(), matrix ? &*matrix : nullptr},
+                           so)
+            ->solve();
+    };
+    out.result = hooks.added_emission ? solve_with_added_emission(P, hooks, solve) : solve(P);
     stage_end(hooks);
     out.result.form_factors = method;
     out.result.seconds += out.form_factor_seconds;
@@ -358,6 +382,8 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
 }  // namespace
 
 SolvedScene solve_scene(const Scene& scene, const SolveRequest& request, const SolveHooks& hooks) {
+    if (request.refines() && hooks.added_emission)
+        throw std::invalid_argument("added_emission: patch solvers on whole patches only, not refining ones");
     return request.refines() ? solve_refining(scene, request, hooks) : solve_patches(scene, request, hooks);
 }
 

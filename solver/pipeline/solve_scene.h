@@ -39,6 +39,12 @@ struct SolveHooks {
     /// With SolveRequest::series: the state so far, over `mesh`, with the settings the
     /// solution will have (status "running").
     std::function<void(const PatchMesh& mesh, const std::string& settings, const SolveResult& so_far)> snapshot;
+    /// Light added to the patches' emission (W/m^2 per patch, per channel) for solves over the
+    /// same form factors: asked before the first solve (so_far null; nothing: none added) and
+    /// after each (so_far its solution, before the gather; nothing: the last solve stands).
+    /// The two-pass render's photon rounds hand the light mirrors and glass redirect to the
+    /// patches it lands on this way. Patch solvers on whole patches only (element_split 1).
+    std::function<std::optional<std::vector<Rgb>>(const SolveResult* so_far)> added_emission;
 };
 
 /// What a hierarchical solve made, for the front ends' summaries.

@@ -8,6 +8,8 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -369,6 +371,49 @@ TEST(SolveScene, AFurnaceWithAFloatingBlockIsFlat) {
     EXPECT_LT(shooting, 1e-3);
     EXPECT_LT(gathering, 1e-3);
     EXPECT_GT(sampled, 1e-3);
+}
+
+TEST(SolveScene, AddedEmissionSolvesAgainOverTheSameFormFactors) {
+    // The furnace with a floating block (rho 0.9, E = 1): B = E / (1 - rho) = 10. Asked again
+    // with 1 more on every patch, the second solve gives 20 everywhere, and a third ask ends
+    // it. Element solves and refining ones refuse the hook.
+    test::TempDir tmp;
+    const auto path = tmp.write("furnace.json", R"({"name": "furnace with a block",
+      "materials": {"glow": {"reflectance": 0.9, "emission": 1}},
+      "objects": [
+        {"type": "box", "material": "glow", "inward": true, "transform": {"scale": 2, "translate": [1, 1, 1]}},
+        {"type": "box", "material": "glow", "transform": {"scale": 0.8, "translate": [1, 1, 0.9]}}]})");
+    const Scene scene = load_scene(path.string());
+    for (const SolverKind solver : {SolverKind::shooting, SolverKind::gauss_seidel}) {
+        SolveRequest r;
+        r.solver = solver;
+        r.tolerance = 1e-7;
+        r.gather = GatherMode::none;
+        r.meshing.target_patches = 300;
+        std::vector<double> worst;  // max |B / expected - 1| of each solve
+        SolveHooks hooks;
+        hooks.added_emission = [&](const SolveResult* so_far) -> std::optional<std::vector<Rgb>> {
+            if (!so_far) return std::nullopt;
+            const double expected = 10.0 * double(worst.size() + 1);
+            double off = 0;
+            for (const auto& b : so_far->radiosity) off = std::max(off, std::abs(b[1] / expected - 1));
+            worst.push_back(off);
+            if (worst.size() == 2) return std::nullopt;
+            return std::vector<Rgb>(so_far->radiosity.size(), Rgb::gray(1.0));
+        };
+        const SolvedScene s = solve_scene(scene, r, hooks);
+        ASSERT_EQ(worst.size(), 2u) << to_string(solver);
+        std::printf("%s: worst |B/10 - 1| %.2e, then with E = 2 |B/20 - 1| %.2e\n", to_string(solver).c_str(), worst[0],
+                    worst[1]);
+        EXPECT_LT(worst[0], 1e-3);
+        EXPECT_LT(worst[1], 1e-3);
+        EXPECT_NEAR(s.result.radiosity.front()[0], 20.0, 0.02);
+        r.element_split = 2;
+        EXPECT_THROW(solve_scene(scene, r, hooks), std::invalid_argument);
+        r.element_split = 1;
+        r.solver = SolverKind::hierarchical;
+        EXPECT_THROW(solve_scene(scene, r, hooks), std::invalid_argument);
+    }
 }
 
 TEST(SolveScene, TheStudyAsJsonAndAsAnObjGivesOneAnswerWithEverySolver) {
