@@ -110,6 +110,79 @@ Rgb corner_shape(const Patch& p, const Rgb* corners, const Rgb& mean, double u, 
     return out;
 }
 
+/// x's kernel-weighted mean of a shaped source's corner shape (corner_shape), per channel:
+/// Lambert's formula on cells of the patch, each weighted by the shape at its centre. The patch
+/// is cut in four (at its edges' midpoints and its centre) at least twice, and again where a
+/// cell lies within twice its size of x, so cells shrink with their distance to x and the
+/// kernel changes little across each. Deterministic: a near source, whose kernel changes most
+/// across it, sends its shape without the noise of a few jittered samples of a peaked kernel,
+/// and its rays only decide how much of it x sees. The shape is bilinear (linear on a
+/// triangle), so its value at a cell's corners and centre is the mean of its parent's.
+class ExactShape {
+public:
+    ExactShape(const glm::dvec3& x, const glm::dvec3& n) : m_x(x), m_n(n) {}
+
+    Rgb operator()(const Patch& p, const Rgb* corners, const Rgb& mean) {
+        m_weighted = Rgb();
+        m_total = 0.0;
+        std::array<Rgb, 4> w;
+        for (int k = 0; k < p.vertex_count; ++k)
+            for (int c = 0; c < 3; ++c) w[std::size_t(k)][c] = mean[c] > 0 ? corners[k][c] / mean[c] : 1.0;
+        cell(p.vertices, w, p.vertex_count, 0);
+        if (!(m_total > 0)) return Rgb::gray(1.0);
+        return m_weighted * (1.0 / m_total);
+    }
+
+private:
+    static constexpr int kMinDepth = 2, kMaxDepth = 8;
+    static constexpr double kNear = 4.0;  // cut a cell nearer x than this many times its size
+
+    void cell(const std::array<glm::dvec3, 4>& v, const std::array<Rgb, 4>& w, int count, int depth) {
+        glm::dvec3 centre{0.0};
+        Rgb at;
+        for (int k = 0; k < count; ++k) centre += v[std::size_t(k)], at += w[std::size_t(k)];
+        centre *= 1.0 / count;
+        at *= 1.0 / count;
+        double size = 0.0;
+        for (int k = 0; k < count; ++k) size = std::max(size, glm::length(v[std::size_t(k)] - centre));
+        if (depth < kMinDepth || (depth < kMaxDepth && glm::length(centre - m_x) < kNear * size)) {
+            split(v, w, count, depth + 1, centre, at);
+            return;
+        }
+        const double f = point_polygon_form_factor(m_x, m_n, {v.data(), std::size_t(count)});
+        if (!(f > 0)) return;
+        m_total += f;
+        m_weighted += at * f;
+    }
+
+    void split(const std::array<glm::dvec3, 4>& v, const std::array<Rgb, 4>& w, int count, int depth,
+               const glm::dvec3& centre, const Rgb& at) {
+        std::array<glm::dvec3, 4> mv;
+        std::array<Rgb, 4> mw;
+        for (int k = 0; k < count; ++k) {
+            const std::size_t a = std::size_t(k), b = std::size_t((k + 1) % count);
+            mv[a] = 0.5 * (v[a] + v[b]);
+            mw[a] = (w[a] + w[b]) * 0.5;
+        }
+        if (count == 4) {
+            for (std::size_t k = 0; k < 4; ++k) {
+                const std::size_t prev = (k + 3) % 4;
+                cell({v[k], mv[k], centre, mv[prev]}, {w[k], mw[k], at, mw[prev]}, 4, depth);
+            }
+            return;
+        }
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::size_t prev = (k + 2) % 3;
+            cell({v[k], mv[k], mv[prev], glm::dvec3(0.0)}, {w[k], mw[k], mw[prev], Rgb()}, 3, depth);
+        }
+        cell({mv[0], mv[1], mv[2], glm::dvec3(0.0)}, {mw[0], mw[1], mw[2], Rgb()}, 3, depth);
+    }
+
+    glm::dvec3 m_x, m_n;
+    Rgb m_weighted;
+    double m_total = 0.0;
+};
+
 /// Every source patch's card: what the gather reads of it for each point, packed.
 std::vector<SourceCard> source_cards(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
                                      const PointFactor& factor, const GatherSources* sources) {
@@ -142,6 +215,7 @@ struct Term {
     std::size_t patch, first, count;
     double f0;
     bool shaped;  // weights[first .. first + count) hold the samples' shape (GatherOptions::source_corners)
+    Rgb shape;    // shaped: ExactShape's, the share of B_j the whole patch sends x
 };
 
 /// The lists a gather thread reuses from point to point.
@@ -202,13 +276,14 @@ struct SourceTaker {
         if (p.emission.max() > 0) want = std::max(want, options.emitter_rays);
         const int side = grid_side(want);
         const bool shaped = in.shapes && distance < options.shape_within * c.radius;
-        Rgb mean;
+        Rgb mean, shape;
         if (shaped) {
             scratch.weights.resize(scratch.segments.size());
             for (int k = 0; k < p.vertex_count; ++k) mean += options.source_corners[4 * j + std::size_t(k)];
             mean *= 1.0 / p.vertex_count;
+            shape = ExactShape(x.position, x.normal)(p, &options.source_corners[4 * j], mean);
         }
-        scratch.terms.push_back({j, scratch.segments.size(), std::size_t(side * side), f0, shaped});
+        scratch.terms.push_back({j, scratch.segments.size(), std::size_t(side * side), f0, shaped, shape});
         for (int a = 0; a < side; ++a)
             for (int b = 0; b < side; ++b) {
                 // v drawn first: the order the call patch_point(p, u(), v()) evaluated them in.
@@ -275,10 +350,17 @@ Rgb add_terms(Rgb gathered, const GatherInputs& in, const PointScratch& scratch)
         // All samples at zero kernel (grazing): the plain open fraction. No rays: unblocked.
         const double share = t.count == 0 ? 1.0 : total > 0 ? open / total : double(open_rays) / double(t.count);
         if (t.shaped && total > 0) {
-            Rgb shaped_open;
-            for (std::size_t s = t.first; s < t.first + t.count; ++s)
-                if (!blocked[s]) shaped_open += scratch.weights[s] * kernel[s];
-            gathered += in.radiosity[t.patch] * shaped_open * (t.f0 / total);
+            // The exact shape, times the share of it the rays find open (weighted by kernel
+            // and shape, so a blocked dark strip hides less than a blocked bright one).
+            Rgb shaped_open, shaped_all;
+            for (std::size_t s = t.first; s < t.first + t.count; ++s) {
+                const Rgb w = scratch.weights[s] * kernel[s];
+                shaped_all += w;
+                if (!blocked[s]) shaped_open += w;
+            }
+            Rgb seen;
+            for (int c = 0; c < 3; ++c) seen[c] = shaped_all[c] > 0 ? shaped_open[c] / shaped_all[c] : share;
+            gathered += in.radiosity[t.patch] * t.shape * seen * t.f0;
             continue;
         }
         gathered += in.radiosity[t.patch] * (t.f0 * share);
