@@ -349,14 +349,16 @@ int MeshComparison::write_files() const {
     return 0;
 }
 
-/// The error map: every probe's error for the uniform patch mesh nearest the default size.
+/// The error map: every probe's error for the uniform patch mesh nearest the default size, or
+/// without one for the first run (an adaptive or hierarchical comparison's worst probes).
 void MeshComparison::write_error_map() const {
     const Row* map_row = nullptr;
     for (const auto& r : m_rows)
         if (r.method == "patches" && (!map_row || std::abs(std::log(double(r.elements) / 2000.0)) <
                                                       std::abs(std::log(double(map_row->elements) / 2000.0))))
             map_row = &r;
-    if (!map_row) return;
+    if (!map_row && !m_rows.empty()) map_row = &m_rows.front();
+    if (!map_row || map_row->probe.patch_error.size() != m_probes.size()) return;
     const std::filesystem::path dir = m_c.out;
     write_text_file(
         dir / "probe_errors.csv",
