@@ -146,7 +146,8 @@ Refiner::Step Refiner::decide_elements(const Pair& p, float& visible, std::uint8
     if (m_ff) {
         float seen = -1.0f;
         const double v = seen_visible(a, b, seen) ? double(seen) : m_ff->visible_fraction(a, b, kPartialVisibilityRays);
-        if (v > 0 && v < 1 && !accepted(err_a + ab.mean * lb, err_b + ba.mean * la, ab.mean * lb, ba.mean * la, a, b))
+        if (v > 0 && v < 1 &&
+            !partly_visible_accepted(err_a + ab.mean * lb, err_b + ba.mean * la, ab.mean * lb, ba.mean * la, a, b))
             return split;
         visible = float(v);
     }

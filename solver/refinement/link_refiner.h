@@ -96,6 +96,16 @@ private:
         return (relative_at(err_a, brings_a) && relative_at(err_b, brings_b)) ||
                (power_at(err_a, a) && power_at(err_b, b));
     }
+    /// accepted() for a pair a shadow's edge crosses. Where one end emits, the other end is
+    /// judged on the relative test alone: the edge of a shadow of direct light is refined
+    /// whatever its power, since a faint penumbra (a dark corner's, a small lamp's) is where a
+    /// power budget would stop refining and the point data most misplaces the light.
+    bool partly_visible_accepted(double err_a, double err_b, double brings_a, double brings_b, std::uint32_t a,
+                                 std::uint32_t b) const {
+        const bool lit_a = m_tree.geometry()[b].emission.max() > 0, lit_b = m_tree.geometry()[a].emission.max() > 0;
+        if (!lit_a && !lit_b) return accepted(err_a, err_b, brings_a, brings_b, a, b);
+        return (!lit_a || relative_at(err_a, brings_a)) && (!lit_b || relative_at(err_b, brings_b));
+    }
     /// One end's half of accepted(): false means the pair is refused whatever the other end's.
     bool accepted_at(double err, double brings, std::uint32_t end) const {
         return relative_at(err, brings) || power_at(err, end);
