@@ -286,23 +286,95 @@ std::vector<double> interpolation_error(const PatchMesh& elements, std::span<con
 /// carry its radiosity (cell data) and cluster irradiance and gather through its links (their
 /// rows are empty and chained to it); only the point data gains. Returns the number of leaves
 /// split: none when the new vertices' pairs would pass kMaxGatherPairs.
+std::size_t split_for_display(HierarchicalSolution& sol, PatchMesh& elements, std::span<const GatherPoint> old_points,
+                              SolveResult& res, VertexStage stage, const std::vector<std::uint8_t>& split,
+                              const Visibility& visibility, const GatherOptions& options,
+                              const std::atomic<bool>* cancel,
+                              const std::function<void(std::size_t, std::size_t)>& progress);
+
 std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, std::span<const GatherPoint> old_points,
                            SolveResult& res, VertexStage stage, std::span<const Rgb> centre_values,
                            const Visibility& visibility, const GatherOptions& options, const DisplayRefinement& display,
                            const std::atomic<bool>* cancel,
                            const std::function<void(std::size_t, std::size_t)>& progress) {
-    ElementTree& tree = sol.tree;
     const std::size_t leaves = sol.leaves.size();
     if (res.radiosity.size() != leaves)
         throw std::invalid_argument("display refinement: the result must hold one radiosity per leaf");
     const std::vector<double> error = interpolation_error(elements, centre_values);
     std::vector<std::uint8_t> split(leaves, 0);
-    std::size_t count = 0;
-    for (std::size_t k = 0; k < leaves; ++k)
-        if (error[k] > display.tolerance * centre_values[k].luminance()) {
-            split[k] = 1;
-            ++count;
+    for (std::size_t k = 0; k < leaves; ++k) split[k] = error[k] > display.tolerance * centre_values[k].luminance();
+    return split_for_display(sol, elements, old_points, res, stage, split, visibility, options, cancel, progress);
+}
+
+/// Per leaf, whether its gathered corners differ by more than kStepSpread of the brightest
+/// (or of a hundredth of the mean radiosity, where all are darker): a step in the light, such
+/// as the hard shadow line at a contact, where the penumbra narrows to nothing.
+std::vector<std::uint8_t> corner_steps(const PatchMesh& elements, std::span<const Rgb> point_radiosity,
+                                       std::span<const Rgb> radiosity) {
+    static constexpr double kStepSpread = 0.3;
+    const auto& patches = elements.patches();
+    double area = 0.0, power = 0.0;
+    for (std::size_t k = 0; k < patches.size(); ++k) {
+        area += patches[k].area;
+        power += patches[k].area * radiosity[k].luminance();
+    }
+    const double floor = area > 0 ? 0.01 * power / area : 0.0;
+    std::vector<std::uint8_t> out(patches.size(), 0);
+    for (std::size_t k = 0; k < patches.size(); ++k) {
+        double lo = 1e300, hi = 0.0;
+        for (const int v : elements.patch_vertex_indices(k)) {
+            const double b = point_radiosity[std::size_t(v)].luminance();
+            lo = std::min(lo, b);
+            hi = std::max(hi, b);
         }
+        out[k] = (hi - lo) > kStepSpread * std::max(hi, floor);
+    }
+    return out;
+}
+
+/// res.point_radiosity for the vertices of `next` (the conforming mesh of sol.leaves): those
+/// in `old_values` keep them, the rest are gathered through their leaves' links.
+void gather_vertices_anew(const HierarchicalSolution& sol, const PatchMesh& next, const PointValues& old_values,
+                          SolveResult& res, VertexStage stage, const Visibility& visibility,
+                          const GatherOptions& options, const std::atomic<bool>* cancel,
+                          const std::function<void(std::size_t, std::size_t)>& progress) {
+    const std::vector<GatherPoint> points = vertex_gather_points(next);
+    std::vector<Rgb> values(points.size());
+    std::vector<GatherPoint> todo;
+    std::vector<std::size_t> todo_vertex;
+    for (std::size_t v = 0; v < points.size(); ++v) {
+        // An old vertex keeps its value, gathered a tenth of the way towards the centres of
+        // the cells around it then. Beside a split leaf those are nearer now; gathering such
+        // vertices again, where they now lie, cost a fifth more of display refinement's time
+        // for no better point data on the Cornell box.
+        if (const Rgb* known = old_values.find(points[v].surface, next.vertex_position(v))) {
+            values[v] = *known;
+            continue;
+        }
+        todo.push_back(points[v]);
+        todo_vertex.push_back(v);
+    }
+    const std::vector<std::uint32_t> list = vertex_lists(sol, todo);
+    GatherSources at = stage.sources.on(list, stage.links);
+    std::vector<std::int32_t> first_child;
+    std::vector<double> spread;
+    set_descent(sol.tree, stage.radiosity, first_child, spread, at);
+    const std::vector<Rgb> gathered =
+        final_gather(sol.tree.geometry(), stage.radiosity, visibility, todo, at, options, cancel, progress);
+    for (std::size_t q = 0; q < todo.size(); ++q) values[todo_vertex[q]] = gathered[q];
+    res.point_radiosity = std::move(values);
+}
+
+/// Splits the leaves flagged in `split` for display and gathers the vertices that adds (as
+/// refine_display).
+std::size_t split_for_display(HierarchicalSolution& sol, PatchMesh& elements, std::span<const GatherPoint> old_points,
+                              SolveResult& res, VertexStage stage, const std::vector<std::uint8_t>& split,
+                              const Visibility& visibility, const GatherOptions& options,
+                              const std::atomic<bool>* cancel,
+                              const std::function<void(std::size_t, std::size_t)>& progress) {
+    ElementTree& tree = sol.tree;
+    const std::size_t leaves = sol.leaves.size();
+    const std::size_t count = std::size_t(std::count(split.begin(), split.end(), std::uint8_t(1)));
     if (count == 0) return 0;
     {
         // Each split leaf adds at most five vertices (its edges' midpoints and its centre),
@@ -361,32 +433,7 @@ std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, std::
     sol.leaves = std::move(new_leaves);
     // The new mesh: its vertices found in the old keep their values, the rest are gathered.
     PatchMesh next = tree.conforming_mesh(sol.leaves);
-    const std::vector<GatherPoint> points = vertex_gather_points(next);
-    std::vector<Rgb> values(points.size());
-    std::vector<GatherPoint> todo;
-    std::vector<std::size_t> todo_vertex;
-    for (std::size_t v = 0; v < points.size(); ++v) {
-        // An old vertex keeps its value, gathered a tenth of the way towards the centres of
-        // the cells around it then. Beside a split leaf those are nearer now; gathering such
-        // vertices again, where they now lie, cost a fifth more of display refinement's time
-        // for no better point data on the Cornell box (level 4, 3e-7, with the vertex-mean
-        // test at 0.01 the plane fit replaced: 0.335% gathered again, 0.313% kept).
-        if (const Rgb* known = old_values.find(points[v].surface, next.vertex_position(v))) {
-            values[v] = *known;
-            continue;
-        }
-        todo.push_back(points[v]);
-        todo_vertex.push_back(v);
-    }
-    const std::vector<std::uint32_t> list = vertex_lists(sol, todo);
-    GatherSources at = stage.sources.on(list, stage.links);
-    std::vector<std::int32_t> first_child;
-    std::vector<double> spread;
-    set_descent(tree, stage.radiosity, first_child, spread, at);
-    const std::vector<Rgb> gathered =
-        final_gather(tree.geometry(), stage.radiosity, visibility, todo, at, options, cancel, progress);
-    for (std::size_t q = 0; q < todo.size(); ++q) values[todo_vertex[q]] = gathered[q];
-    res.point_radiosity = std::move(values);
+    gather_vertices_anew(sol, next, old_values, res, stage, visibility, options, cancel, progress);
     next.set_specular_faces(elements.specular_faces());  // mirrors and glass stay in the export
     elements = std::move(next);
     return count;
@@ -447,11 +494,39 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
             // B (regathered, or a copy of the solution's) grows with the display leaves.
             std::vector<Rgb> radiosity = regathered.empty() ? solution.node_radiosity : std::move(regathered);
             // `at` points into plan.links and sources, which refine_display grows: not used after.
+            const auto report_display = [&progress](std::size_t d, std::size_t t) {
+                if (progress) progress("gathering: display refinement", d, t);
+            };
+            std::size_t first_new = refine->solution->tree.size();
+            PointValues original(refine->solution->tree.weld());
+            for (std::size_t v = 0; v < plan.vertex_points.size(); ++v)
+                original.add(plan.vertex_points[v].surface,
+                             {refine->elements->vertex_position(v), res.point_radiosity[v]});
             refine_display(*refine->solution, *refine->elements, plan.vertex_points, res,
                            {plan.links, sources, radiosity}, centre_of, visibility, options, refine->options, cancel,
-                           [&progress](std::size_t d, std::size_t t) {
-                               if (progress) progress("gathering: display refinement", d, t);
-                           });
+                           report_display);
+            // Then the new leaves across a step are split again, up to kStepDepth times, as the
+            // patch solvers' display cells are (PatchDisplayRefinement::step_depth): four more
+            // halve a leaf's edges 16 times along such lines only.
+            static constexpr int kStepDepth = 4;
+            bool stepped = false;
+            for (int step = 0; step < kStepDepth && !(cancel && cancel->load()); ++step) {
+                std::vector<std::uint8_t> steps = corner_steps(*refine->elements, res.point_radiosity, res.radiosity);
+                const std::vector<std::uint32_t>& leaves = refine->solution->leaves;
+                for (std::size_t k = 0; k < steps.size(); ++k) steps[k] = steps[k] && leaves[k] >= first_new;
+                first_new = refine->solution->tree.size();
+                if (split_for_display(*refine->solution, *refine->elements, vertex_gather_points(*refine->elements),
+                                      res, {plan.links, sources, radiosity}, steps, visibility, options, cancel,
+                                      report_display) == 0)
+                    break;
+                stepped = true;
+            }
+            // The display vertices of the passes before the last moved their gather points as
+            // the cells round them were split: gathered again where they now lie, every display
+            // vertex holds the value at its own gather point.
+            if (stepped && !(cancel && cancel->load()))
+                gather_vertices_anew(*refine->solution, *refine->elements, original, res,
+                                     {plan.links, sources, radiosity}, visibility, options, cancel, report_display);
         },
         [&](const auto& report) {
             // With a power epsilon the same gather is already done.
