@@ -54,10 +54,10 @@ TEST(CliSpecular, RenderDrawsTheSpheresBoxByEyeRays) {
 TEST(CliSpecular, CtrlCKeepsAWholePictureOfTheRowsDone) {
     bounce::test::TempDir dir;
     const auto png = dir / "big.png";
-    // The light pass takes about a second; the eye pass of 1500 x 1500 at 64 rays a pixel
-    // minutes, so the signal after 6 s stops it.
+    // The light pass takes a second or two (five under the sanitizers); the eye pass of
+    // 1500 x 1500 at 64 rays a pixel a quarter of an hour, so the signal after 20 s stops it.
     const auto r =
-        bounce::test::run("timeout --foreground --preserve-status -s INT 6 " + kExe + " render cornell-spheres -o " +
+        bounce::test::run("timeout --foreground --preserve-status -s INT 20 " + kExe + " render cornell-spheres -o " +
                           png.string() + " --size 1500x1500 --samples 64" + kQuick);
     EXPECT_EQ(r.exit_code, 130) << r.err;
     EXPECT_NE(r.err.find("interrupted: " + png.string() + " holds the"), std::string::npos) << r.err;
