@@ -126,6 +126,12 @@ PatchMesh mesh_scene(const CommonOptions& o, const Scene& scene, const MeshingOp
 
 bool default_meshing(const CommonOptions& o) { return bounce::default_meshing(o.meshing); }
 
+void print_solve_messages(const SolvedScene& solved, bool quiet) {
+    if (quiet) return;
+    for (const auto& w : solved.warnings) std::cerr << "warning: " << w << "\n";
+    for (const auto& n : solved.notes) std::cerr << "note: " << n << "\n";
+}
+
 void check_memory(const CommonOptions& o, const std::string& what, double bytes) {
     if (bytes > double(o.max_memory_mb << 20)) {
         std::ostringstream msg;

@@ -14,6 +14,7 @@
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/solve_result.h"
 #include "solver/pipeline/solve_request.h"
+#include "solver/pipeline/solve_scene.h"
 #include "solver/visibility/visibility.h"
 #include "viewer/pending_output.h"
 #include "viewer/renderer.h"
@@ -65,6 +66,9 @@ inline constexpr std::size_t kCoarseCornellPatches = 90;
 
 /// Refuses work whose estimate exceeds --max-memory, naming the estimate.
 void check_memory(const CommonOptions& o, const std::string& what, double bytes);
+
+/// The warnings and notes of a solve (SolvedScene), one line each on stderr, unless quiet.
+void print_solve_messages(const SolvedScene& solved, bool quiet);
 /// The hemicube's per-thread buffers against --max-memory (other methods need none).
 void check_form_factor_memory(const CommonOptions& o, const std::string& method, const FormFactorOptions& f);
 

@@ -36,10 +36,7 @@ SolvedScene solve_as_solve_does(const CommonOptions& o, const Scene& scene) {
     hooks.check_memory = [&](const std::string& what, double bytes) { check_memory(o, what, bytes); };
     SolvedScene solved = solve_scene(scene, request, hooks);
     if (g_interrupted.load()) throw Interrupted("interrupted while solving");
-    if (!o.quiet) {
-        for (const auto& w : solved.warnings) std::cerr << "warning: " << w << "\n";
-        for (const auto& n : solved.notes) std::cerr << "note: " << n << "\n";
-    }
+    print_solve_messages(solved, o.quiet);
     return solved;
 }
 

@@ -194,10 +194,7 @@ SolvedScene run_pipeline(const CommonOptions& o, const SolveCommand& s, const So
         series->add(so_far);
     };
     SolvedScene solved = solve_scene(scene, request, hooks);
-    if (!o.quiet) {
-        for (const auto& w : solved.warnings) std::cerr << "warning: " << w << "\n";
-        for (const auto& n : solved.notes) std::cerr << "note: " << n << "\n";
-    }
+    print_solve_messages(solved, o.quiet);
     return solved;
 }
 

@@ -156,10 +156,7 @@ LightPass light_pass(const CommonOptions& o, const Scene& scene, const PatchMesh
     };
     SolvedScene solved = solve_scene(scene, request, hooks);
     if (g_interrupted.load()) throw Interrupted("interrupted while solving the radiosity");
-    if (!o.quiet) {
-        for (const auto& w : solved.warnings) std::cerr << "warning: " << w << "\n";
-        for (const auto& n : solved.notes) std::cerr << "note: " << n << "\n";
-    }
+    print_solve_messages(solved, o.quiet);
     if (photons) {
         lp.caustics = std::make_unique<CausticMap>(std::move(stored), radius, P.size(), t.nearest);
         lp.spread = std::make_unique<CausticMap>(std::move(spread), kSpreadRadius * tracer.diagonal(), P.size(),

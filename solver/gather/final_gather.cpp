@@ -113,7 +113,7 @@ Rgb corner_shape(const Patch& p, const Rgb* corners, const Rgb& mean, double u, 
 /// x's kernel-weighted mean of a shaped source's corner shape (corner_shape), per channel:
 /// Lambert's formula on cells of the patch, each weighted by the shape at its centre. The patch
 /// is cut in four (at its edges' midpoints and its centre) at least twice, and again where a
-/// cell lies within twice its size of x, so cells shrink with their distance to x and the
+/// cell lies within four times its size of x, so cells shrink with their distance to x and the
 /// kernel changes little across each. Deterministic: a near source, whose kernel changes most
 /// across it, sends its shape without the noise of a few jittered samples of a peaked kernel,
 /// and its rays only decide how much of it x sees. The shape is bilinear (linear on a

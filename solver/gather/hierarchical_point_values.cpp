@@ -16,6 +16,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "solver/gather/patch_display_refinement.h"
 #include "solver/gather/point_values_by_position.h"
 #include "solver/visibility/shaft_culler.h"
 
@@ -306,28 +307,22 @@ std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, std::
     return split_for_display(sol, elements, old_points, res, stage, split, visibility, options, cancel, progress);
 }
 
-/// Per leaf, whether its gathered corners differ by more than kStepSpread of the brightest
-/// (or of a hundredth of the mean radiosity, where all are darker): a step in the light, such
+/// Per leaf, whether its gathered corners differ by more than the patch solvers' corner
+/// spread of the brightest (or of dark_floor, where all are darker): a step in the light, such
 /// as the hard shadow line at a contact, where the penumbra narrows to nothing.
 std::vector<std::uint8_t> corner_steps(const PatchMesh& elements, std::span<const Rgb> point_radiosity,
-                                       std::span<const Rgb> radiosity) {
-    static constexpr double kStepSpread = 0.3;
-    const auto& patches = elements.patches();
-    double area = 0.0, power = 0.0;
-    for (std::size_t k = 0; k < patches.size(); ++k) {
-        area += patches[k].area;
-        power += patches[k].area * radiosity[k].luminance();
-    }
-    const double floor = area > 0 ? 0.01 * power / area : 0.0;
-    std::vector<std::uint8_t> out(patches.size(), 0);
-    for (std::size_t k = 0; k < patches.size(); ++k) {
+                                       const std::vector<Rgb>& radiosity) {
+    const double spread = PatchDisplayRefinement{}.corner_spread;
+    const double floor = dark_floor(elements.patches(), radiosity);
+    std::vector<std::uint8_t> out(elements.size(), 0);
+    for (std::size_t k = 0; k < elements.size(); ++k) {
         double lo = 1e300, hi = 0.0;
         for (const int v : elements.patch_vertex_indices(k)) {
             const double b = point_radiosity[std::size_t(v)].luminance();
             lo = std::min(lo, b);
             hi = std::max(hi, b);
         }
-        out[k] = (hi - lo) > kStepSpread * std::max(hi, floor);
+        out[k] = (hi - lo) > spread * std::max(hi, floor);
     }
     return out;
 }
@@ -505,12 +500,11 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
             refine_display(*refine->solution, *refine->elements, plan.vertex_points, res,
                            {plan.links, sources, radiosity}, centre_of, visibility, options, refine->options, cancel,
                            report_display);
-            // Then the new leaves across a step are split again, up to kStepDepth times, as the
-            // patch solvers' display cells are (PatchDisplayRefinement::step_depth): four more
-            // halve a leaf's edges 16 times along such lines only.
-            static constexpr int kStepDepth = 4;
+            // Then the new leaves across a step are split again, as often as the patch solvers'
+            // display cells are (PatchDisplayRefinement::step_depth), along such lines only.
+            const int step_depth = PatchDisplayRefinement{}.step_depth;
             bool stepped = false;
-            for (int step = 0; step < kStepDepth && !(cancel && cancel->load()); ++step) {
+            for (int step = 0; step < step_depth && !(cancel && cancel->load()); ++step) {
                 std::vector<std::uint8_t> steps = corner_steps(*refine->elements, res.point_radiosity, res.radiosity);
                 const std::vector<std::uint32_t>& leaves = refine->solution->leaves;
                 for (std::size_t k = 0; k < steps.size(); ++k) steps[k] = steps[k] && leaves[k] >= first_new;

@@ -230,17 +230,6 @@ void share_by_point_data(SolveResult& res, const std::vector<Patch>& patches, co
     }
 }
 
-/// A hundredth of the scene's mean radiosity (luminance): misses are relative to it where
-/// both values are darker, so the darkest corners do not split for noise.
-double dark_floor(const std::vector<Patch>& patches, const std::vector<Rgb>& radiosity) {
-    double area = 0.0, power = 0.0;
-    for (std::size_t p = 0; p < patches.size(); ++p) {
-        area += patches[p].area;
-        power += patches[p].area * radiosity[p].luminance();
-    }
-    return 0.01 * power / area;
-}
-
 /// The patches to try a split of: where the solved mean misses the mean of the gathered
 /// corners, or the corners differ among themselves (PatchDisplayRefinement). Each vertex's
 /// gathered value goes into `known` once, on its patch's surface.
@@ -273,6 +262,15 @@ std::vector<std::uint32_t> patches_to_try(const PatchMesh& mesh, const std::vect
 }
 
 }  // namespace
+
+double dark_floor(const std::vector<Patch>& patches, const std::vector<Rgb>& radiosity) {
+    double area = 0.0, power = 0.0;
+    for (std::size_t p = 0; p < patches.size(); ++p) {
+        area += patches[p].area;
+        power += patches[p].area * radiosity[p].luminance();
+    }
+    return area > 0 ? 0.01 * power / area : 0.0;
+}
 
 std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibility& visibility,
                                  const PatchDisplayRefinement& options, const std::atomic<bool>* cancel,

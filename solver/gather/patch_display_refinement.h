@@ -39,6 +39,11 @@ struct PatchDisplayRefinement {
 /// The display tolerance the patch solvers gather with unless one is given.
 inline constexpr double kPatchDisplayTolerance = 0.02;
 
+/// A hundredth of the scene's mean radiosity (area-weighted luminance): display refinement's
+/// misses and steps are relative to it where both values are darker, so the darkest corners
+/// do not split for noise.
+double dark_floor(const std::vector<Patch>& patches, const std::vector<Rgb>& radiosity);
+
 /// After gather_point_values in mode "vertices" (res.point_radiosity per vertex of `mesh`):
 /// tries a split of every patch whose radiosity (its mean, from the solve) differs from the
 /// mean of its vertices' values by more than the tolerance (interpolation misrepresents it),

@@ -264,8 +264,6 @@ SolveResult solve_with_added_emission(const std::vector<Patch>& patches, const S
 /// from the patches that shoot (PatchToElementFormFactor).
 SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const SolveHooks& hooks) {
     const bool elements = r.element_split > 1;
-    if (elements && hooks.added_emission)
-        throw std::invalid_argument("added_emission: patch solvers on whole patches only (element_split 1)");
     MeshingOptions fine = r.meshing;
     fine.element_split = r.element_split;
     // Elements must tile their patches exactly (parents), so contact cuts go with split 1 only.
@@ -382,8 +380,8 @@ SolvedScene solve_patches(const Scene& scene, const SolveRequest& r, const Solve
 }  // namespace
 
 SolvedScene solve_scene(const Scene& scene, const SolveRequest& request, const SolveHooks& hooks) {
-    if (request.refines() && hooks.added_emission)
-        throw std::invalid_argument("added_emission: patch solvers on whole patches only, not refining ones");
+    if (hooks.added_emission && (request.refines() || request.element_split > 1))
+        throw std::invalid_argument("added_emission: patch solvers on whole patches only (element_split 1)");
     return request.refines() ? solve_refining(scene, request, hooks) : solve_patches(scene, request, hooks);
 }
 

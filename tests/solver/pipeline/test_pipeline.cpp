@@ -60,6 +60,17 @@ std::vector<std::string> lines_after(const std::string& text, const std::string&
     return lines;
 }
 
+/// Every face of a closed 2 m box and of a block floating in it emits 1 and reflects 0.9.
+Scene furnace_with_a_block() {
+    test::TempDir tmp;
+    const auto path = tmp.write("furnace.json", R"({"name": "furnace with a block",
+      "materials": {"glow": {"reflectance": 0.9, "emission": 1}},
+      "objects": [
+        {"type": "box", "material": "glow", "inward": true, "transform": {"scale": 2, "translate": [1, 1, 1]}},
+        {"type": "box", "material": "glow", "transform": {"scale": 0.8, "translate": [1, 1, 0.9]}}]})");
+    return load_scene(path.string());
+}
+
 }  // namespace
 
 TEST(SolveRequest, EnumNamesAreTheFactoriesNames) {
@@ -348,13 +359,7 @@ TEST(SolveScene, AFurnaceWithAFloatingBlockIsFlat) {
     // rays' noise where the block hides part of a pair, and 1 / (1 - rho) = 10 amplifies it;
     // the default request balances the rows (reciprocal, closed rows summing to one), so every
     // patch is within 0.1%. Shooting and Gauss-Seidel; unbalanced rows are not.
-    test::TempDir tmp;
-    const auto path = tmp.write("furnace.json", R"({"name": "furnace with a block",
-      "materials": {"glow": {"reflectance": 0.9, "emission": 1}},
-      "objects": [
-        {"type": "box", "material": "glow", "inward": true, "transform": {"scale": 2, "translate": [1, 1, 1]}},
-        {"type": "box", "material": "glow", "transform": {"scale": 0.8, "translate": [1, 1, 0.9]}}]})");
-    const Scene scene = load_scene(path.string());
+    const Scene scene = furnace_with_a_block();
     const auto worst = [&](SolverKind solver, bool balance) {
         SolveRequest r;
         r.solver = solver;
@@ -382,13 +387,7 @@ TEST(SolveScene, AddedEmissionSolvesAgainOverTheSameFormFactors) {
     // The furnace with a floating block (rho 0.9, E = 1): B = E / (1 - rho) = 10. Asked again
     // with 1 more on every patch, the second solve gives 20 everywhere, and a third ask ends
     // it. Element solves and refining ones refuse the hook.
-    test::TempDir tmp;
-    const auto path = tmp.write("furnace.json", R"({"name": "furnace with a block",
-      "materials": {"glow": {"reflectance": 0.9, "emission": 1}},
-      "objects": [
-        {"type": "box", "material": "glow", "inward": true, "transform": {"scale": 2, "translate": [1, 1, 1]}},
-        {"type": "box", "material": "glow", "transform": {"scale": 0.8, "translate": [1, 1, 0.9]}}]})");
-    const Scene scene = load_scene(path.string());
+    const Scene scene = furnace_with_a_block();
     for (const SolverKind solver : {SolverKind::shooting, SolverKind::gauss_seidel}) {
         SolveRequest r;
         r.solver = solver;
