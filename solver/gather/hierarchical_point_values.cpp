@@ -180,15 +180,17 @@ LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links
 constexpr double kDescendShare = 0.1;
 
 /// Every leaf's value gathered at its centre through its own links (the leaf's row, chained to
-/// its ancestors', LinkSources::on) from the solution's node radiosity: mode "centres", and the first step of the
-/// re-gather below.
+/// its ancestors', LinkSources::on) from `radiosity` per node (empty: the solution's): mode
+/// "centres", and each step of the re-gather below.
 std::vector<Rgb> centre_values(const HierarchicalSolution& sol, const PatchMesh& elements, const NodeLinks& links,
                                const LinkSources& sources, const Visibility& visibility, const GatherOptions& options,
                                const std::atomic<bool>* cancel,
-                               const std::function<void(std::size_t, std::size_t)>& progress) {
+                               const std::function<void(std::size_t, std::size_t)>& progress,
+                               std::span<const Rgb> radiosity = {}) {
     // A centre gathers through its own element (the elements are the leaves, in order).
-    return final_gather(sol.tree.geometry(), sol.node_radiosity, visibility, centre_gather_points(elements.patches()),
-                        sources.on(sol.leaves, links), options, cancel, progress);
+    return final_gather(sol.tree.geometry(), radiosity.empty() ? std::span<const Rgb>(sol.node_radiosity) : radiosity,
+                        visibility, centre_gather_points(elements.patches()), sources.on(sol.leaves, links), options,
+                        cancel, progress);
 }
 
 /// The node radiosity with every leaf's replaced by its re-gathered centre value and every
@@ -453,7 +455,8 @@ struct DisplayTarget {
 GatherOutcome gather_through_links(const HierarchicalSolution& solution, const PatchMesh& elements,
                                    const Visibility& visibility, SolveResult& res, const std::string& mode,
                                    const DisplayTarget* refine, const std::atomic<bool>* cancel,
-                                   const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
+                                   const std::function<void(const char*, std::size_t, std::size_t)>& progress,
+                                   int regather_steps) {
     check_gather_mode(mode);
     if (mode == "none") return GatherOutcome::not_asked;
     GatherPlan plan = gather_plan(solution, elements);
@@ -468,12 +471,16 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
             GatherSources at = sources.on(plan.vertex_list, plan.links);
             std::vector<Rgb> regathered;
             if (solution.power_epsilon > 0) {
-                centres = centre_values(solution, elements, plan.links, sources, visibility, options, cancel,
-                                        [&progress](std::size_t d, std::size_t t) {
-                                            if (progress) progress("gathering: element centres", d, t);
-                                        });
-                if (cancel && cancel->load()) return;
-                regathered = regathered_radiosity(solution, centres);
+                for (int step = 0; step < regather_steps; ++step) {
+                    centres = centre_values(
+                        solution, elements, plan.links, sources, visibility, options, cancel,
+                        [&progress](std::size_t d, std::size_t t) {
+                            if (progress) progress("gathering: element centres", d, t);
+                        },
+                        regathered);
+                    if (cancel && cancel->load()) return;
+                    regathered = regathered_radiosity(solution, centres);
+                }
             }
             const std::vector<Rgb>& B = regathered.empty() ? solution.node_radiosity : regathered;
             std::vector<std::int32_t> first_child;
@@ -535,8 +542,9 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
 GatherOutcome gather_hierarchical_point_values(
     const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility, SolveResult& res,
     const std::string& mode, const std::atomic<bool>* cancel,
-    const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
-    return gather_through_links(solution, elements, visibility, res, mode, nullptr, cancel, progress);
+    const std::function<void(const char*, std::size_t, std::size_t)>& progress, int regather_steps) {
+    if (regather_steps < 1) throw std::invalid_argument("hierarchical gather: at least one re-gather step");
+    return gather_through_links(solution, elements, visibility, res, mode, nullptr, cancel, progress, regather_steps);
 }
 
 GatherOutcome gather_hierarchical_point_values(
@@ -545,7 +553,7 @@ GatherOutcome gather_hierarchical_point_values(
     const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
     if (!(display.tolerance >= 0)) throw std::invalid_argument("display refinement: the tolerance must be 0 or more");
     const DisplayTarget target{&solution, &elements, display};
-    return gather_through_links(solution, elements, visibility, res, mode, &target, cancel, progress);
+    return gather_through_links(solution, elements, visibility, res, mode, &target, cancel, progress, kRegatherSteps);
 }
 
 }  // namespace bounce

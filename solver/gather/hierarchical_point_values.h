@@ -19,6 +19,18 @@
 
 namespace bounce {
 
+/// Jacobi steps of the re-gather at the leaves' centres that a solution refined with a power
+/// epsilon takes before its vertices gather (each step gathers every leaf's centre through its
+/// links from the last step's radiosity, then sets every parent to its children's area-weighted
+/// mean). Where links accepted for their small power hand a coarse element the irradiance of
+/// many partly seen sources (a face in the acute wedge between two crossing boxes: hundreds of
+/// links, each within the power bound, together three times what its leaves receive), the
+/// first step gives each leaf its own view of its sources but gathers from neighbours that
+/// still hold the links' excess; the second takes their corrected values. A third changed the
+/// scene set's point data within its spread
+/// (docs/measurements/2026-12-06-far-leg-and-wedges.md).
+inline constexpr int kRegatherSteps = 2;
+
 /// The point-source pairs gathering through the links costs: for every vertex of `elements`,
 /// the element links along its leaf's path to the root; with a power epsilon, the same for
 /// every leaf's centre too (gathered first).
@@ -38,15 +50,16 @@ double hierarchical_gather_pairs(const HierarchicalSolution& solution, const Pat
 /// patches' fewer triangles trace faster (on the Cornell box at power epsilon 1e-6, 90 patches
 /// against 11,472 elements: the gather 0.74 s instead of 1.01 s, the point data the same to
 /// the digit). A solution refined with a power epsilon first
-/// re-gathers every leaf at its centre the same way and the vertices gather from those
-/// values: its links may hand a whole coarse element one mean (on the box, power epsilon
-/// 3e-6: point data 1.48% -> 0.99% RMS off the 0.1% probes, for about twice the gather;
-/// progress stage "gathering: element centres"). Mode "centres" then reports those centre
-/// values, with no progress of its own.
+/// re-gathers every leaf at its centre the same way, `regather_steps` times (kRegatherSteps),
+/// and the vertices gather from those values: its links may hand a whole coarse element one
+/// mean (on the box, power epsilon 3e-6: point data 1.48% -> 0.99% RMS off the 0.1% probes,
+/// for about twice the gather; progress stage "gathering: element centres"). Mode "centres"
+/// then reports the last step's centre values, with no progress of its own.
 GatherOutcome gather_hierarchical_point_values(
     const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility, SolveResult& res,
     const std::string& mode, const std::atomic<bool>* cancel = nullptr,
-    const std::function<void(const char*, std::size_t, std::size_t)>& progress = {});
+    const std::function<void(const char*, std::size_t, std::size_t)>& progress = {},
+    int regather_steps = kRegatherSteps);
 
 /// Display refinement of a hierarchical solution's point data. A point value between the
 /// vertices is their linear interpolation (as ParaView shows it), which misses where the
