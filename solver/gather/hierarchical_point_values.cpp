@@ -216,6 +216,40 @@ std::vector<Rgb> regathered_radiosity(const HierarchicalSolution& sol, const std
     return B;
 }
 
+/// The leaves' cell values from their re-gathered centre values, scaled per input patch and
+/// channel so that each patch keeps the power the solve gave it (the energy account stays the
+/// solve's). Links accepted for their small power hand every leaf of a coarse element the
+/// element's mean, and the cells showed it: 15% RMS off the path tracer on the Cornell box with
+/// `--adaptive` against 4% for the uniform default; the centres give each leaf its own share.
+/// Irradiance follows (B = E + rho H); a patch whose centres gathered nothing in a channel keeps
+/// the solve's values there.
+void cells_from_centres(const HierarchicalSolution& sol, const std::vector<Rgb>& centres, SolveResult& res) {
+    const ElementTree& tree = sol.tree;
+    const auto& nodes = tree.geometry();
+    const std::size_t n = sol.leaves.size();
+    if (centres.size() != n || res.radiosity.size() != n) return;
+    std::vector<std::uint32_t> root(n);
+    std::vector<Rgb> solved(tree.size()), gathered(tree.size());  // power per root
+    for (std::size_t k = 0; k < n; ++k) {
+        std::uint32_t r = sol.leaves[k];
+        while (tree.node(r).parent >= 0) r = std::uint32_t(tree.node(r).parent);
+        root[k] = r;
+        const double area = nodes[sol.leaves[k]].area;
+        solved[r] += res.radiosity[k] * area;
+        gathered[r] += centres[k] * area;
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+        const Patch& p = nodes[sol.leaves[k]];
+        for (int c = 0; c < 3; ++c) {
+            const double g = gathered[root[k]][c];
+            if (!(g > 0)) continue;
+            res.radiosity[k][c] = centres[k][c] * (solved[root[k]][c] / g);
+            if (res.irradiance.size() == n && p.reflectance[c] > 0)
+                res.irradiance[k][c] = std::max(0.0, res.radiosity[k][c] - p.emission[c]) / p.reflectance[c];
+        }
+    }
+}
+
 /// Everything the vertex stage gathers through, kept so display refinement can gather more
 /// points the same way: the per-node rows (extended by empty rows for display leaves), their
 /// marks and parents, and the radiosity the vertices gather from.
@@ -481,6 +515,7 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
                     if (cancel && cancel->load()) return;
                     regathered = regathered_radiosity(solution, centres);
                 }
+                cells_from_centres(solution, centres, res);
             }
             const std::vector<Rgb>& B = regathered.empty() ? solution.node_radiosity : regathered;
             std::vector<std::int32_t> first_child;

@@ -3,12 +3,13 @@
 // most: the acute wedge (about 43 degrees) where one box crosses another in a closed room, as
 // objects in real models often do. The coarse elements of the crossed faces take the
 // irradiance of hundreds of links, each accepted for its small power, that their parts in the
-// wedge do not see. The leaves' re-gathered centre values are scored against the path tracer
-// at the same centres.
+// wedge do not see. The leaves' re-gathered centre values, and the cell values taken from them,
+// are scored against the path tracer at the same centres.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "mesh/meshing/patch_mesh.h"
@@ -46,47 +47,51 @@ struct Error {
     double mean = 0.0, rms = 0.0;
 };
 
-}  // namespace
+/// `--adaptive`'s solution of the wedge room and the path tracer at the centres of its leaves
+/// within 15 cm of the wedge that it finds open (a leaf's centre inside the other box gets
+/// nothing there).
+struct WedgeSolution {
+    Scene scene = wedge_room();
+    PatchMesh mesh{scene, roots()};
+    std::unique_ptr<Visibility> visibility = make_visibility("embree", mesh.patches());
+    HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, adaptive());
+    PatchMesh cells = sol.tree.conforming_mesh(sol.leaves);
+    std::vector<std::size_t> leaves;  // into sol.leaves
+    std::vector<double> truth;        // luminance at their centres
 
-TEST(Regather, TheSecondStepTakesTheWedgesLeavesCloserToThePathTracer) {
-    const Scene scene = wedge_room();
-    MeshingOptions coarse;
-    coarse.target_patches = 30;  // the roots `bounce solve --adaptive` starts from
-    const PatchMesh mesh(scene, coarse);
-    const auto visibility = make_visibility("embree", mesh.patches());
-    HierarchicalOptions h;
-    h.power_epsilon = adaptive_power_epsilon(0.0);
-    const HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
-    const PatchMesh cells = sol.tree.conforming_mesh(sol.leaves);
-
-    // The leaves within 15 cm of the wedge that the path tracer finds open (a leaf's centre
-    // inside the other box gets nothing there).
-    const PathTracer tracer(scene);
-    const glm::dvec3 wedge(-1.324, 1.28, -0.243);
-    std::vector<std::size_t> leaves;
-    std::vector<SurfacePoint> points;
-    for (std::size_t k = 0; k < cells.size(); ++k) {
-        const Patch& p = cells.patches()[k];
-        if (glm::length(p.centre - wedge) > 0.15) continue;
-        if (const auto x = tracer.locate(p.centre, p.normal)) {
-            leaves.push_back(k);
-            points.push_back(*x);
+    WedgeSolution() {
+        const PathTracer tracer(scene);
+        const glm::dvec3 wedge(-1.324, 1.28, -0.243);
+        std::vector<SurfacePoint> points;
+        for (std::size_t k = 0; k < cells.size(); ++k) {
+            const Patch& p = cells.patches()[k];
+            if (glm::length(p.centre - wedge) > 0.15) continue;
+            if (const auto x = tracer.locate(p.centre, p.normal)) {
+                leaves.push_back(k);
+                points.push_back(*x);
+            }
         }
+        ReferenceOptions o;
+        o.target_error = 0.01;
+        for (const auto& e : tracer.estimate_all(points, o)) truth.push_back(e.radiosity.luminance());
     }
-    ReferenceOptions o;
-    o.target_error = 0.01;
-    const auto reference = tracer.estimate_all(points, o);
-
-    const auto error_after = [&](int steps) {
-        SolveResult res = sol.result;
-        EXPECT_EQ(gather_hierarchical_point_values(sol, cells, *visibility, res, "centres", nullptr, {}, steps),
-                  GatherOutcome::gathered);
+    static MeshingOptions roots() {
+        MeshingOptions coarse;
+        coarse.target_patches = 30;  // the roots `bounce solve --adaptive` starts from
+        return coarse;
+    }
+    static HierarchicalOptions adaptive() {
+        HierarchicalOptions h;
+        h.power_epsilon = adaptive_power_epsilon(0.0);
+        return h;
+    }
+    /// The relative error of `values` (per leaf) at the leaves by the wedge.
+    Error error_of(const std::vector<Rgb>& values) const {
         Error e;
         std::size_t n = 0;
         for (std::size_t q = 0; q < leaves.size(); ++q) {
-            const double truth = reference[q].radiosity.luminance();
-            if (!(truth > 0)) continue;
-            const double off = res.gathered_centres[leaves[q]].luminance() / truth - 1;
+            if (!(truth[q] > 0)) continue;
+            const double off = values[leaves[q]].luminance() / truth[q] - 1;
             e.mean += off;
             e.rms += off * off;
             ++n;
@@ -94,12 +99,57 @@ TEST(Regather, TheSecondStepTakesTheWedgesLeavesCloserToThePathTracer) {
         EXPECT_GE(n, 20u);
         e.mean /= double(n);
         e.rms = std::sqrt(e.rms / double(n));
-        std::printf("%d re-gather step(s), %zu leaves by the wedge: centre values %+.4f mean, %.4f RMS\n", steps, n,
-                    e.mean, e.rms);
+        return e;
+    }
+};
+
+const WedgeSolution& wedge_solution() {
+    static const WedgeSolution w;
+    return w;
+}
+
+}  // namespace
+
+TEST(Regather, TheSecondStepTakesTheWedgesLeavesCloserToThePathTracer) {
+    const WedgeSolution& w = wedge_solution();
+    const auto error_after = [&](int steps) {
+        SolveResult res = w.sol.result;
+        EXPECT_EQ(gather_hierarchical_point_values(w.sol, w.cells, *w.visibility, res, "centres", nullptr, {}, steps),
+                  GatherOutcome::gathered);
+        const Error e = w.error_of(res.gathered_centres);
+        std::printf("%d re-gather step(s): centre values by the wedge %+.4f mean, %.4f RMS\n", steps, e.mean, e.rms);
         return e;
     };
     const Error one = error_after(1), two = error_after(kRegatherSteps);
     EXPECT_GT(one.mean, 0.0);  // the links' excess: too bright
     EXPECT_LT(two.rms, 0.6 * one.rms);
     EXPECT_LT(std::abs(two.mean), 0.6 * one.mean);
+}
+
+TEST(Regather, CellsTakeTheCentresShareAndEachPatchKeepsItsPower) {
+    const WedgeSolution& w = wedge_solution();
+    SolveResult res = w.sol.result;
+    ASSERT_EQ(gather_hierarchical_point_values(w.sol, w.cells, *w.visibility, res, "vertices"),
+              GatherOutcome::gathered);
+    const Error solved = w.error_of(w.sol.result.radiosity), cells = w.error_of(res.radiosity);
+    std::printf("cell values by the wedge: the solve's %+.4f mean, %.4f RMS; exported %+.4f mean, %.4f RMS\n",
+                solved.mean, solved.rms, cells.mean, cells.rms);
+    EXPECT_LT(cells.rms, 0.5 * solved.rms);
+    // Every input patch (root) keeps the power the solve gave it, per channel, and B = E + rho H.
+    const auto& tree = w.sol.tree;
+    std::vector<Rgb> before(tree.size()), after(tree.size());
+    for (std::size_t k = 0; k < w.sol.leaves.size(); ++k) {
+        std::uint32_t r = w.sol.leaves[k];
+        while (tree.node(r).parent >= 0) r = std::uint32_t(tree.node(r).parent);
+        const Patch& p = tree.geometry()[w.sol.leaves[k]];
+        before[r] += w.sol.result.radiosity[k] * p.area;
+        after[r] += res.radiosity[k] * p.area;
+        for (int c = 0; c < 3; ++c) {
+            if (!(p.reflectance[c] > 0)) continue;
+            EXPECT_NEAR(res.radiosity[k][c], p.emission[c] + p.reflectance[c] * res.irradiance[k][c],
+                        1e-12 * (1 + res.radiosity[k][c]));
+        }
+    }
+    for (std::size_t r = 0; r < tree.size(); ++r)
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(after[r][c], before[r][c], 1e-12 * (1 + before[r][c])) << r;
 }
