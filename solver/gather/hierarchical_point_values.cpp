@@ -216,38 +216,67 @@ std::vector<Rgb> regathered_radiosity(const HierarchicalSolution& sol, const std
     return B;
 }
 
-/// The leaves' cell values from their re-gathered centre values, scaled per input patch and
-/// channel so that each patch keeps the power the solve gave it (the energy account stays the
-/// solve's). Links accepted for their small power hand every leaf of a coarse element the
-/// element's mean, and the cells showed it: 15% RMS off the path tracer on the Cornell box with
-/// `--adaptive` against 4% for the uniform default; the centres give each leaf its own share.
-/// Irradiance follows (B = E + rho H); a patch whose centres gathered nothing in a channel keeps
-/// the solve's values there.
+/// The leaves' cell values from their re-gathered centre values: per input patch and channel,
+/// the reflected part (B - E) of each leaf's centre value is scaled so that the patch keeps the
+/// reflected power the solve gave it, and E stays exact, so the energy account stays the
+/// solve's and B = E + rho H holds per cell. Links accepted for their small power hand every
+/// leaf of a coarse element the element's mean, which the solve's leaf values keep; the
+/// centres give each leaf its own share
+/// (docs/measurements/2026-12-06-far-leg-and-wedges.md#cells-from-the-centres). Where the
+/// centres' reflected power is not within a factor kCellScaleRange of the solve's, the two
+/// disagree about the whole patch (a few lit centres would take all of its power): the solve's
+/// values stand there.
 void cells_from_centres(const HierarchicalSolution& sol, const std::vector<Rgb>& centres, SolveResult& res) {
+    static constexpr double kCellScaleRange = 10.0;
     const ElementTree& tree = sol.tree;
     const auto& nodes = tree.geometry();
     const std::size_t n = sol.leaves.size();
     if (centres.size() != n || res.radiosity.size() != n) return;
     std::vector<std::uint32_t> root(n);
-    std::vector<Rgb> solved(tree.size()), gathered(tree.size());  // power per root
+    std::vector<Rgb> solve_power(tree.size()), gathered_power(tree.size());  // reflected, per root
     for (std::size_t k = 0; k < n; ++k) {
         std::uint32_t r = sol.leaves[k];
         while (tree.node(r).parent >= 0) r = std::uint32_t(tree.node(r).parent);
         root[k] = r;
-        const double area = nodes[sol.leaves[k]].area;
-        solved[r] += res.radiosity[k] * area;
-        gathered[r] += centres[k] * area;
+        const Patch& p = nodes[sol.leaves[k]];
+        solve_power[r] += (res.radiosity[k] - p.emission) * p.area;
+        gathered_power[r] += (centres[k] - p.emission) * p.area;
     }
     for (std::size_t k = 0; k < n; ++k) {
         const Patch& p = nodes[sol.leaves[k]];
         for (int c = 0; c < 3; ++c) {
-            const double g = gathered[root[k]][c];
-            if (!(g > 0)) continue;
-            res.radiosity[k][c] = centres[k][c] * (solved[root[k]][c] / g);
-            if (res.irradiance.size() == n && p.reflectance[c] > 0)
-                res.irradiance[k][c] = std::max(0.0, res.radiosity[k][c] - p.emission[c]) / p.reflectance[c];
+            const double solved = solve_power[root[k]][c], gathered = gathered_power[root[k]][c];
+            if (!(solved > 0 && gathered > 0)) continue;
+            const double scale = solved / gathered;
+            if (scale > kCellScaleRange || scale < 1.0 / kCellScaleRange) continue;
+            const double reflected = (centres[k][c] - p.emission[c]) * scale;
+            res.radiosity[k][c] = p.emission[c] + reflected;
+            if (res.irradiance.size() == n && p.reflectance[c] > 0) res.irradiance[k][c] = reflected / p.reflectance[c];
         }
     }
+}
+
+/// Jacobi steps of the re-gather (kRegatherSteps): the leaves' centre values after the last,
+/// and the node radiosity made of them (regathered_radiosity). Empty when cancelled.
+struct Regathered {
+    std::vector<Rgb> centres, radiosity;
+};
+Regathered regather_leaves(const HierarchicalSolution& solution, const PatchMesh& elements, const NodeLinks& links,
+                           const LinkSources& sources, const Visibility& visibility, const GatherOptions& options,
+                           int steps, const std::atomic<bool>* cancel,
+                           const std::function<void(const char*, std::size_t, std::size_t)>& progress) {
+    Regathered out;
+    for (int step = 0; step < steps; ++step) {
+        out.centres = centre_values(
+            solution, elements, links, sources, visibility, options, cancel,
+            [&progress](std::size_t d, std::size_t t) {
+                if (progress) progress("gathering: element centres", d, t);
+            },
+            out.radiosity);
+        if (cancel && cancel->load()) return {};
+        out.radiosity = regathered_radiosity(solution, out.centres);
+    }
+    return out;
 }
 
 /// Everything the vertex stage gathers through, kept so display refinement can gather more
@@ -505,17 +534,11 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
             GatherSources at = sources.on(plan.vertex_list, plan.links);
             std::vector<Rgb> regathered;
             if (solution.power_epsilon > 0) {
-                for (int step = 0; step < regather_steps; ++step) {
-                    centres = centre_values(
-                        solution, elements, plan.links, sources, visibility, options, cancel,
-                        [&progress](std::size_t d, std::size_t t) {
-                            if (progress) progress("gathering: element centres", d, t);
-                        },
-                        regathered);
-                    if (cancel && cancel->load()) return;
-                    regathered = regathered_radiosity(solution, centres);
-                }
-                cells_from_centres(solution, centres, res);
+                Regathered r = regather_leaves(solution, elements, plan.links, sources, visibility, options,
+                                               regather_steps, cancel, progress);
+                if (cancel && cancel->load()) return;
+                centres = std::move(r.centres);
+                regathered = std::move(r.radiosity);
             }
             const std::vector<Rgb>& B = regathered.empty() ? solution.node_radiosity : regathered;
             std::vector<std::int32_t> first_child;
@@ -523,6 +546,8 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
             set_descent(solution.tree, B, first_child, spread, at);
             res.point_radiosity =
                 final_gather(solution.tree.geometry(), B, visibility, plan.vertex_points, at, options, cancel, report);
+            if (cancel && cancel->load()) return;
+            cells_from_centres(solution, centres, res);  // before display refinement spreads the cells
             if (!refine || !(refine->options.tolerance > 0) || mode != "vertices" || (cancel && cancel->load())) return;
             // The centre values: re-gathered, or without a power epsilon the leaves' own.
             std::vector<Rgb> centre_of(solution.leaves.size());

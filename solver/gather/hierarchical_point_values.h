@@ -22,13 +22,11 @@ namespace bounce {
 /// Jacobi steps of the re-gather at the leaves' centres that a solution refined with a power
 /// epsilon takes before its vertices gather (each step gathers every leaf's centre through its
 /// links from the last step's radiosity, then sets every parent to its children's area-weighted
-/// mean). Where links accepted for their small power hand a coarse element the irradiance of
-/// many partly seen sources (a face in the acute wedge between two crossing boxes: hundreds of
-/// links, each within the power bound, together three times what its leaves receive), the
-/// first step gives each leaf its own view of its sources but gathers from neighbours that
-/// still hold the links' excess; the second takes their corrected values. A third changed the
-/// scene set's point data within its spread
-/// (docs/measurements/2026-12-06-far-leg-and-wedges.md).
+/// mean). Where many links, each accepted for its small power, hand a coarse element the
+/// irradiance of sources most of its leaves see only in part (a face in the acute wedge where
+/// one box crosses another), the first step gives each leaf its own view of its sources but
+/// gathers from neighbours that still hold the links' excess; the second takes their corrected
+/// values. Why two and not three: docs/measurements/2026-12-06-far-leg-and-wedges.md.
 inline constexpr int kRegatherSteps = 2;
 
 /// The point-source pairs gathering through the links costs: for every vertex of `elements`,
@@ -55,8 +53,9 @@ double hierarchical_gather_pairs(const HierarchicalSolution& solution, const Pat
 /// mean (on the box, power epsilon 3e-6: point data 1.48% -> 0.99% RMS off the 0.1% probes,
 /// for about twice the gather; progress stage "gathering: element centres"). Mode "centres"
 /// then reports the last step's centre values, with no progress of its own. The cells (res's
-/// radiosity and irradiance per leaf) then take those centre values, scaled within each input
-/// patch to the power the solve gave it.
+/// radiosity and irradiance per leaf) then take those centre values, their reflected part
+/// scaled within each input patch to the reflected power the solve gave it. The gather's budget
+/// (kMaxGatherPairs) counts the centres' pairs once, though each step gathers them.
 GatherOutcome gather_hierarchical_point_values(
     const HierarchicalSolution& solution, const PatchMesh& elements, const Visibility& visibility, SolveResult& res,
     const std::string& mode, const std::atomic<bool>* cancel = nullptr,
