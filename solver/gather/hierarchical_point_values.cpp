@@ -232,20 +232,18 @@ void cells_from_centres(const HierarchicalSolution& sol, const std::vector<Rgb>&
     const auto& nodes = tree.geometry();
     const std::size_t n = sol.leaves.size();
     if (centres.size() != n || res.radiosity.size() != n) return;
-    std::vector<std::uint32_t> root(n);
-    std::vector<Rgb> solve_power(tree.size()), gathered_power(tree.size());  // reflected, per root
+    std::vector<Rgb> solve_power(tree.root_count()), gathered_power(tree.root_count());  // reflected, per root
     for (std::size_t k = 0; k < n; ++k) {
-        std::uint32_t r = sol.leaves[k];
-        while (tree.node(r).parent >= 0) r = std::uint32_t(tree.node(r).parent);
-        root[k] = r;
         const Patch& p = nodes[sol.leaves[k]];
+        const std::uint32_t r = tree.node(sol.leaves[k]).root;
         solve_power[r] += (res.radiosity[k] - p.emission) * p.area;
         gathered_power[r] += (centres[k] - p.emission) * p.area;
     }
     for (std::size_t k = 0; k < n; ++k) {
         const Patch& p = nodes[sol.leaves[k]];
+        const std::uint32_t r = tree.node(sol.leaves[k]).root;
         for (int c = 0; c < 3; ++c) {
-            const double solved = solve_power[root[k]][c], gathered = gathered_power[root[k]][c];
+            const double solved = solve_power[r][c], gathered = gathered_power[r][c];
             if (!(solved > 0 && gathered > 0)) continue;
             const double scale = solved / gathered;
             if (scale > kCellScaleRange || scale < 1.0 / kCellScaleRange) continue;

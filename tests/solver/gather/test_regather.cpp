@@ -143,10 +143,9 @@ TEST(Regather, CellsTakeTheCentresShareAndEachPatchKeepsItsPower) {
     EXPECT_LT(cells.rms, 0.5 * solved.rms);
     // Every input patch (root) keeps the power the solve gave it, per channel, and B = E + rho H.
     const auto& tree = w.sol.tree;
-    std::vector<Rgb> before(tree.size()), after(tree.size());
+    std::vector<Rgb> before(tree.root_count()), after(tree.root_count());
     for (std::size_t k = 0; k < w.sol.leaves.size(); ++k) {
-        std::uint32_t r = w.sol.leaves[k];
-        while (tree.node(r).parent >= 0) r = std::uint32_t(tree.node(r).parent);
+        const std::uint32_t r = tree.node(w.sol.leaves[k]).root;
         const Patch& p = tree.geometry()[w.sol.leaves[k]];
         before[r] += w.sol.result.radiosity[k] * p.area;
         after[r] += res.radiosity[k] * p.area;
@@ -156,6 +155,6 @@ TEST(Regather, CellsTakeTheCentresShareAndEachPatchKeepsItsPower) {
                         1e-12 * (1 + res.radiosity[k][c]));
         }
     }
-    for (std::size_t r = 0; r < tree.size(); ++r)
+    for (std::size_t r = 0; r < tree.root_count(); ++r)
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(after[r][c], before[r][c], 1e-12 * (1 + before[r][c])) << r;
 }
