@@ -156,6 +156,24 @@ TEST(PolygonFormFactor, ThinSliversFarBelowRoundingFinish) {
     EXPECT_NEAR(area_a * fab, area_b * fba, 1e-16);
 }
 
+TEST(PolygonFormFactor, AWallRisingAStripAboveTheFloorsPlaneKeepsItsStrip) {
+    // A unit wall x = 0 facing +x whose top edge rises h above the floor's plane: only the
+    // strip 0 <= z <= h sees the floor, the shared-edge case from an h-high strip, so
+    // F = h F(h x 1 -> 1 x 1). Strips far thinner than the tolerance (a corner grazing the
+    // other's plane) are dropped, bounded by F <= h; thin strips above it keep their value.
+    for (const double h : {1e-4, 1e-2, 0.5}) {
+        const Poly wall = {{0, 0, h - 1}, {0, 1, h - 1}, {0, 1, h}, {0, 0, h}};
+        const double f = polygon_form_factor(wall, east, lower(0, 1, 0, 1), up, 1e-10);
+        EXPECT_LT(rel(f, h * perpendicular_rectangles(1, h, 1)), 1e-8) << h << ": " << f;
+    }
+    for (const double h : {1e-15, 1e-17}) {
+        const Poly wall = {{0, 0, h - 1}, {0, 1, h - 1}, {0, 1, h}, {0, 0, h}};
+        const double f = polygon_form_factor(wall, east, lower(0, 1, 0, 1), up, 1e-10);
+        EXPECT_GE(f, 0.0);
+        EXPECT_LE(f, h) << h;
+    }
+}
+
 TEST(PolygonFormFactor, SeparatedProductRuleEqualsThePlainDoubleSum) {
     // separated_form_factor pads its receiver points to blocks of four and works in blocks of
     // 64 (vectorised, AVX2 where the CPU has it): compare with the plain double loop of the
