@@ -30,6 +30,14 @@ struct SplitPoint {
     std::array<int, 4> corners;
 };
 
+/// A cell to try a split of, and how far interpolation misses the light inside it (the
+/// largest relative miss or corner step that made it a candidate): when the gather budget
+/// cannot take every candidate of a level, the worst go first.
+struct Candidate {
+    std::uint32_t cell;
+    double miss;
+};
+
 /// How far a gathered value misses what interpolation gives there, as a share of the larger
 /// of the two, or of `floor` where both are darker.
 double relative_miss(double value, double interpolated, double floor) {
@@ -233,13 +241,13 @@ void share_by_point_data(SolveResult& res, const std::vector<Patch>& patches, co
 /// The patches to try a split of: where the solved mean misses the mean of the gathered
 /// corners, or the corners differ among themselves (PatchDisplayRefinement). Each vertex's
 /// gathered value goes into `known` once, on its patch's surface.
-std::vector<std::uint32_t> patches_to_try(const PatchMesh& mesh, const std::vector<Rgb>& radiosity,
-                                          const std::vector<Rgb>& point_radiosity,
-                                          const PatchDisplayRefinement& options, double floor, PointValues& known) {
+std::vector<Candidate> patches_to_try(const PatchMesh& mesh, const std::vector<Rgb>& radiosity,
+                                      const std::vector<Rgb>& point_radiosity, const PatchDisplayRefinement& options,
+                                      double floor, PointValues& known) {
     const std::vector<Patch>& sources = mesh.patches();
     const std::size_t n = sources.size();
     std::vector<std::uint8_t> added(point_radiosity.size(), 0);
-    std::vector<std::uint32_t> active;
+    std::vector<Candidate> active;
     for (std::size_t p = 0; p < n; ++p) {
         double corner_mean = 0.0, lo = 1e300, hi = 0.0;
         const std::vector<int> vertices = mesh.patch_vertex_indices(p);
@@ -254,9 +262,10 @@ std::vector<std::uint32_t> patches_to_try(const PatchMesh& mesh, const std::vect
             }
         }
         corner_mean /= double(vertices.size());
-        if (relative_miss(radiosity[p].luminance(), corner_mean, floor) > options.tolerance ||
-            relative_miss(hi, lo, floor) > options.corner_spread)
-            active.push_back(std::uint32_t(p));
+        const double mean_miss = relative_miss(radiosity[p].luminance(), corner_mean, floor);
+        const double spread = relative_miss(hi, lo, floor);
+        if (mean_miss > options.tolerance || spread > options.corner_spread)
+            active.push_back({std::uint32_t(p), std::max(mean_miss, spread)});
     }
     return active;
 }
@@ -300,14 +309,28 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     ElementTree tree(sources);
     PointValues known(tree.weld());
     const double floor = dark_floor(sources, radiosity);
-    std::vector<std::uint32_t> active = patches_to_try(mesh, radiosity, res.point_radiosity, options, floor, known);
+    std::vector<Candidate> active = patches_to_try(mesh, radiosity, res.point_radiosity, options, floor, known);
     std::vector<std::uint32_t> cells(n);
     std::iota(cells.begin(), cells.end(), 0u);
     double pairs = 0.0;
-    for (int depth = 1; depth <= options.max_depth + options.step_depth && !active.empty(); ++depth) {
+    bool last_level = false;
+    const double max_pairs = options.max_pairs > 0 ? options.max_pairs : display_pairs_budget(n);
+    for (int depth = 1; depth <= options.max_depth + options.step_depth && !active.empty() && !last_level; ++depth) {
+        // At most five new points per split, each gathering over every patch. Past the
+        // budget, the level takes the candidates that miss most, and is the last.
+        const double per_split = 5.0 * double(n);
+        if (pairs + per_split * double(active.size()) > max_pairs) {
+            const auto fit = std::size_t(std::max(0.0, (max_pairs - pairs) / per_split));
+            if (fit == 0) break;
+            std::stable_sort(active.begin(), active.end(),
+                             [](const Candidate& a, const Candidate& b) { return a.miss > b.miss; });
+            active.resize(std::min(fit, active.size()));
+            last_level = true;
+        }
+        pairs += per_split * double(active.size());
         // Split the active cells (children in their parent's place) and gather what that adds.
         std::vector<std::uint8_t> splitting(tree.size(), 0);
-        for (const std::uint32_t a : active) splitting[a] = 1;
+        for (const Candidate& a : active) splitting[a.cell] = 1;
         std::vector<std::uint32_t> trial;
         trial.reserve(cells.size() + 3 * active.size());
         for (const std::uint32_t c : cells) {
@@ -318,9 +341,6 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
             const std::size_t first = tree.split(c);
             for (std::size_t k = 0; k < 4; ++k) trial.push_back(std::uint32_t(first + k));
         }
-        // At most five new points per split, each gathering over every patch.
-        pairs += 5.0 * double(active.size()) * double(n);
-        if (pairs > kMaxGatherPairs) break;
         const PatchMesh next = tree.conforming_mesh(trial);
         if (!gather_new_vertices(next, vertex_gather_points(next), sources, radiosity, visibility, shaped, known,
                                  cancel, progress))
@@ -328,12 +348,14 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
         // Keep the splits whose new points the interpolation misses; the others go back to
         // their parent (its gathered points are then left unused).
         std::vector<std::uint8_t> undo(tree.size(), 0);
-        std::vector<std::uint32_t> next_active;
-        for (const std::uint32_t a : active) {
+        std::vector<Candidate> next_active;
+        for (const Candidate& candidate : active) {
+            const std::uint32_t a = candidate.cell;
             const ElementTree::Node& node = tree.node(a);
             const std::vector<SplitPoint> points = split_points(node);
             const std::vector<double> misses = split_misses(tree, known, a, points, sources[node.root].surface, floor);
-            if (*std::max_element(misses.begin(), misses.end()) <= options.tolerance) {
+            const double worst = *std::max_element(misses.begin(), misses.end());
+            if (worst <= options.tolerance) {
                 undo[a] = 1;
                 continue;
             }
@@ -342,10 +364,9 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
                 if (!child_touches_a_miss(tree, child, points, misses, options.tolerance)) continue;
                 // Past max_depth only the cells a step crosses go on: their number grows with
                 // the length of the shadow lines, not with the area.
-                if (depth >= options.max_depth &&
-                    corner_step(tree, known, child, sources[node.root].surface, floor) <= options.corner_spread)
-                    continue;
-                next_active.push_back(child);
+                const double step = corner_step(tree, known, child, sources[node.root].surface, floor);
+                if (depth >= options.max_depth && step <= options.corner_spread) continue;
+                next_active.push_back({child, std::max(worst, step)});
             }
         }
         cells.clear();

@@ -6,6 +6,7 @@
 // DisplayRefinement in hierarchical_point_values.h).
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <functional>
@@ -15,6 +16,15 @@
 #include "solver/visibility/visibility.h"
 
 namespace bounce {
+
+/// The vertex-patch pairs display refinement gathers over at most by default, for a mesh of
+/// n patches: 30 n^2, about the form factors' own time (n^2 / 2 pairs, each traced with
+/// several rays, against one or a few a gathered pair), and never less than the point
+/// gather's budget (kMaxGatherPairs in point_values.h, 2e8): a cluttered room's shadow lines
+/// ask for several levels of new points where most of its patches bend the light.
+inline double display_pairs_budget(std::size_t patches) {
+    return std::max(2e8, 30.0 * double(patches) * double(patches));
+}
 
 struct PatchDisplayRefinement {
     /// A cell is kept split where the value gathered at one of its new points (an edge's
@@ -34,6 +44,11 @@ struct PatchDisplayRefinement {
     /// chance while the light inside it bends, and whether it did would then depend on the
     /// rays' noise. Values above 1: never.
     double corner_spread = 0.3;
+    /// The vertex-patch pairs the new points may gather over in all (at most five new points
+    /// a split, each over every patch). A level that would pass it takes the cells that miss
+    /// most (the largest relative miss or corner step first), and is the last: in a cluttered
+    /// scene, where most patches bend the light, the sharpest shadow lines get the splits.
+    double max_pairs = 0.0;  // 0: display_pairs_budget(patches)
 };
 
 /// The display tolerance the patch solvers gather with unless one is given.
@@ -51,15 +66,15 @@ double dark_floor(const std::vector<Patch>& patches, const std::vector<Rgb>& rad
 /// gathers the split's new vertices from the solved patches, keeps the split where one of them
 /// misses the interpolation by more than the tolerance and tries the kept cells again, down to
 /// max_depth, and below it, down to max_depth + step_depth, the kept cells whose corners
-/// differ by more than corner_spread. Then replaces `mesh` by the cells' conforming mesh
+/// differ by more than corner_spread; a level the budget (max_pairs) cannot take whole takes
+/// the candidates that miss most, and is the last. Then replaces `mesh` by the cells' conforming mesh
 /// (ElementTree::conforming_mesh) and spreads the per-patch arrays of `res` (radiosity, irradiance, unshot, display) to
 /// the cells: a split patch's reflected radiosity B - E (and H, and the display value) is shared among its cells in
 /// proportion to the point data over each, so each patch keeps its power (sum_k A_k B_k = A B) and the energy account
 /// is the solve's, while the cells' values follow a shadow line through the patch. Vertices beside near sources with a
 /// shape (GatherOptions::source_corners) are gathered again first, also when nothing is split. Returns the cells added;
 /// 0, with `mesh` unchanged, when the tolerance is 0, nothing misses, `cancel` was set (the point data then as it was
-/// or partly gathered again), or the new vertices would take more than kMaxGatherPairs vertex-patch pairs. `progress`
-/// receives each gather.
+/// or partly gathered again), or the budget cannot take one split. `progress` receives each gather.
 std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibility& visibility,
                                  const PatchDisplayRefinement& options, const std::atomic<bool>* cancel = nullptr,
                                  const std::function<void(std::size_t, std::size_t)>& progress = {});

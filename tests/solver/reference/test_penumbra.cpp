@@ -197,3 +197,30 @@ TEST(Penumbra, APatchWhoseMeanMatchesItsCornersIsSplitWhereTheyDisagree) {
     EXPECT_GT(kept.max_smooth, 0.2);
     EXPECT_LE(split.max_smooth, 0.1);
 }
+
+TEST(Penumbra, AShortGatherBudgetSplitsTheCellsThatMissMost) {
+    // A budget for 40 splits of the 300 patches (in a cluttered room most patches bend the
+    // light and the budget runs out): the level that would pass it takes the patches whose
+    // mean and corners disagree most, which the penumbra crosses, and is the last.
+    const CoarseBlockedLamp lamp;
+    const PatchMesh& mesh = lamp.mesh;
+    SolveResult gathered = lamp.solved;
+    ASSERT_EQ(gather_point_values(mesh, *lamp.visibility, gathered, "vertices"), GatherOutcome::gathered);
+    const auto reference = exact_penumbra();
+    const ProbeScore before = score_at_probes(mesh, gathered.radiosity, reference, gathered.point_radiosity);
+    constexpr std::size_t kSplits = 40;
+    PatchDisplayRefinement short_budget{0.02};
+    short_budget.max_pairs = 5.0 * double(mesh.size()) * kSplits;
+    PatchMesh cells = mesh;
+    SolveResult refined = gathered;
+    const std::size_t added = refine_patch_display(cells, refined, *lamp.visibility, short_budget);
+    const ProbeScore after = score_at_probes(cells, refined.radiosity, reference, refined.point_radiosity);
+    std::cout << mesh.size() << " patches, worst " << before.max_smooth << "; budget for " << kSplits
+              << " splits: " << added << " cells added, worst " << after.max_smooth << ", RMS " << after.rms_smooth
+              << "\n";
+    ASSERT_EQ(after.scored, reference.size());
+    EXPECT_GT(added, 0u);
+    EXPECT_LE(added, 3 * kSplits);  // one level, at most kSplits splits of 4
+    EXPECT_GT(before.max_smooth, 0.2);
+    EXPECT_LE(after.max_smooth, 0.1);
+}
