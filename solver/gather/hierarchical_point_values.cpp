@@ -349,15 +349,16 @@ std::vector<double> interpolation_error(const PatchMesh& elements, std::span<con
 /// vertices, for 0.35%; at the same 0.0025 the old test split 5,947.) A split leaf's children
 /// carry its radiosity (cell data) and cluster irradiance and gather through its links (their
 /// rows are empty and chained to it); only the point data gains. Returns the number of leaves
-/// split: none when the new vertices' pairs would pass kMaxGatherPairs.
+/// split. `budget` is what the passes may still gather, in vertex-link pairs: a pass that would
+/// pass it splits the leaves that miss most first and spends the rest.
 std::size_t split_for_display(HierarchicalSolution& sol, PatchMesh& elements, std::span<const GatherPoint> old_points,
-                              SolveResult& res, VertexStage stage, const std::vector<std::uint8_t>& split,
+                              SolveResult& res, VertexStage stage, std::vector<double> miss, double& budget,
                               const Visibility& visibility, const GatherOptions& options,
                               const std::atomic<bool>* cancel,
                               const std::function<void(std::size_t, std::size_t)>& progress);
 
 std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, std::span<const GatherPoint> old_points,
-                           SolveResult& res, VertexStage stage, std::span<const Rgb> centre_values,
+                           SolveResult& res, VertexStage stage, std::span<const Rgb> centre_values, double& budget,
                            const Visibility& visibility, const GatherOptions& options, const DisplayRefinement& display,
                            const std::atomic<bool>* cancel,
                            const std::function<void(std::size_t, std::size_t)>& progress) {
@@ -365,19 +366,26 @@ std::size_t refine_display(HierarchicalSolution& sol, PatchMesh& elements, std::
     if (res.radiosity.size() != leaves)
         throw std::invalid_argument("display refinement: the result must hold one radiosity per leaf");
     const std::vector<double> error = interpolation_error(elements, centre_values);
-    std::vector<std::uint8_t> split(leaves, 0);
-    for (std::size_t k = 0; k < leaves; ++k) split[k] = error[k] > display.tolerance * centre_values[k].luminance();
-    return split_for_display(sol, elements, old_points, res, stage, split, visibility, options, cancel, progress);
+    // Per leaf past the tolerance, its miss as a share of its value, or of dark_floor where
+    // it is darker (so a budget goes to visible misses before the umbra's noise); 0 within it.
+    const double floor = dark_floor(elements.patches(), {centre_values.begin(), centre_values.end()});
+    std::vector<double> miss(leaves, 0.0);
+    for (std::size_t k = 0; k < leaves; ++k) {
+        const double value = centre_values[k].luminance();
+        if (error[k] > display.tolerance * value) miss[k] = error[k] / std::max({value, floor, 1e-300});
+    }
+    return split_for_display(sol, elements, old_points, res, stage, std::move(miss), budget, visibility, options,
+                             cancel, progress);
 }
 
-/// Per leaf, whether its gathered corners differ by more than the patch solvers' corner
-/// spread of the brightest (or of dark_floor, where all are darker): a step in the light, such
-/// as the hard shadow line at a contact, where the penumbra narrows to nothing.
-std::vector<std::uint8_t> corner_steps(const PatchMesh& elements, std::span<const Rgb> point_radiosity,
-                                       const std::vector<Rgb>& radiosity) {
+/// Per leaf, how far its gathered corners differ where that is more than the patch solvers'
+/// corner spread of the brightest (or of dark_floor, where all are darker), else 0: a step in
+/// the light, such as the hard shadow line at a contact, where the penumbra narrows to nothing.
+std::vector<double> corner_steps(const PatchMesh& elements, std::span<const Rgb> point_radiosity,
+                                 const std::vector<Rgb>& radiosity) {
     const double spread = PatchDisplayRefinement{}.corner_spread;
     const double floor = dark_floor(elements.patches(), radiosity);
-    std::vector<std::uint8_t> out(elements.size(), 0);
+    std::vector<double> out(elements.size(), 0.0);
     for (std::size_t k = 0; k < elements.size(); ++k) {
         double lo = 1e300, hi = 0.0;
         for (const int v : elements.patch_vertex_indices(k)) {
@@ -385,7 +393,8 @@ std::vector<std::uint8_t> corner_steps(const PatchMesh& elements, std::span<cons
             lo = std::min(lo, b);
             hi = std::max(hi, b);
         }
-        out[k] = (hi - lo) > spread * std::max(hi, floor);
+        const double step = (hi - lo) / std::max(hi, floor);
+        if (step > spread) out[k] = step;
     }
     return out;
 }
@@ -426,23 +435,33 @@ void gather_vertices_anew(const HierarchicalSolution& sol, const PatchMesh& next
 /// Splits the leaves flagged in `split` for display and gathers the vertices that adds (as
 /// refine_display).
 std::size_t split_for_display(HierarchicalSolution& sol, PatchMesh& elements, std::span<const GatherPoint> old_points,
-                              SolveResult& res, VertexStage stage, const std::vector<std::uint8_t>& split,
+                              SolveResult& res, VertexStage stage, std::vector<double> miss, double& budget,
                               const Visibility& visibility, const GatherOptions& options,
                               const std::atomic<bool>* cancel,
                               const std::function<void(std::size_t, std::size_t)>& progress) {
     ElementTree& tree = sol.tree;
     const std::size_t leaves = sol.leaves.size();
-    const std::size_t count = std::size_t(std::count(split.begin(), split.end(), std::uint8_t(1)));
-    if (count == 0) return 0;
+    std::vector<std::uint8_t> split(leaves, 0);
     {
         // Each split leaf adds at most five vertices (its edges' midpoints and its centre),
-        // each gathering over the leaf's path of links.
+        // each gathering over the leaf's path of links; the leaves that miss most go first.
         const std::vector<std::size_t> path = path_link_counts(sol, stage.links);
-        double pairs = 0.0;
+        std::vector<std::size_t> order;
         for (std::size_t k = 0; k < leaves; ++k)
-            if (split[k]) pairs += 5.0 * double(path[sol.leaves[k]]);
-        if (pairs > kMaxGatherPairs) return 0;
+            if (miss[k] > 0) order.push_back(k);
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return miss[a] > miss[b]; });
+        for (const std::size_t k : order) {
+            const double pairs = 5.0 * double(path[sol.leaves[k]]);
+            if (pairs > budget) {
+                budget = 0.0;  // the rest waits for no later pass
+                break;
+            }
+            budget -= pairs;
+            split[k] = 1;
+        }
     }
+    const std::size_t count = std::size_t(std::count(split.begin(), split.end(), std::uint8_t(1)));
+    if (count == 0) return 0;
     // The old mesh's values by position (and surface, as the gather points have it), before
     // the tree changes.
     PointValues old_values(tree.weld());
@@ -562,21 +581,25 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
             for (std::size_t v = 0; v < plan.vertex_points.size(); ++v)
                 original.add(plan.vertex_points[v].surface,
                              {refine->elements->vertex_position(v), res.point_radiosity[v]});
+            // The passes share one budget.
+            double budget = refine->options.max_pairs > 0 ? refine->options.max_pairs
+                                                          : hierarchical_display_budget(plan.links.first.back());
             refine_display(*refine->solution, *refine->elements, plan.vertex_points, res,
-                           {plan.links, sources, radiosity}, centre_of, visibility, options, refine->options, cancel,
-                           report_display);
+                           {plan.links, sources, radiosity}, centre_of, budget, visibility, options, refine->options,
+                           cancel, report_display);
             // Then the new leaves across a step are split again, as often as the patch solvers'
             // display cells are (PatchDisplayRefinement::step_depth), along such lines only.
             const int step_depth = PatchDisplayRefinement{}.step_depth;
             bool stepped = false;
             for (int step = 0; step < step_depth && !(cancel && cancel->load()); ++step) {
-                std::vector<std::uint8_t> steps = corner_steps(*refine->elements, res.point_radiosity, res.radiosity);
+                std::vector<double> steps = corner_steps(*refine->elements, res.point_radiosity, res.radiosity);
                 const std::vector<std::uint32_t>& leaves = refine->solution->leaves;
-                for (std::size_t k = 0; k < steps.size(); ++k) steps[k] = steps[k] && leaves[k] >= first_new;
+                for (std::size_t k = 0; k < steps.size(); ++k)
+                    if (leaves[k] < first_new) steps[k] = 0.0;
                 first_new = refine->solution->tree.size();
                 if (split_for_display(*refine->solution, *refine->elements, vertex_gather_points(*refine->elements),
-                                      res, {plan.links, sources, radiosity}, steps, visibility, options, cancel,
-                                      report_display) == 0)
+                                      res, {plan.links, sources, radiosity}, std::move(steps), budget, visibility,
+                                      options, cancel, report_display) == 0)
                     break;
                 stepped = true;
             }

@@ -5,6 +5,7 @@
 // kernel at the vertices for display the same way).
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <functional>
@@ -75,7 +76,18 @@ struct DisplayRefinement {
     /// a quarter of the leaf's distance from their least-squares plane (a second difference).
     /// 0: off.
     double tolerance = 0.0;
+    /// What the splits' new vertices may gather over in all passes, in vertex-link pairs (five
+    /// new vertices a split leaf, each over its path of links): a pass that would pass it
+    /// splits the leaves that miss most (or, in the step passes, whose corners differ most)
+    /// first, and is the last. 0: hierarchical_display_budget.
+    double max_pairs = 0.0;
 };
+
+/// The default budget of display refinement for a solution of `links` links: 60 vertex-link
+/// pairs a link, at most kMaxGatherPairs. The passes then cost a few times the solve's own
+/// link work, however many leaves of a cluttered scene bend the light (at a 0.25% tolerance
+/// most of them can).
+inline double hierarchical_display_budget(std::size_t links) { return std::min(kMaxGatherPairs, 60.0 * double(links)); }
 
 /// The display tolerance `--adaptive` gathers with unless one is given (`--display-tolerance`,
 /// 0 turns it off): a quarter of a percent of the leaf's value is below what a colour map

@@ -224,3 +224,43 @@ TEST(Penumbra, AShortGatherBudgetSplitsTheCellsThatMissMost) {
     EXPECT_GT(before.max_smooth, 0.2);
     EXPECT_LE(after.max_smooth, 0.1);
 }
+
+TEST(Penumbra, AdaptiveDisplayPassesShareABudget) {
+    // --adaptive's display passes share one budget (in a cluttered room most leaves miss at a
+    // 0.25% tolerance, and every pass used to take up to the gather's whole budget): a pass
+    // that would pass it splits the leaves that miss most first, and is the last. Coarse
+    // leaves (power epsilon 1e-3) under a blocked lamp: a budget for a small share of the
+    // passes adds a small share of their cells and still brings the penumbra's worst probe
+    // closer to the exact light than no display cells do.
+    const Scene scene = blocked_lamp();
+    MeshingOptions coarse;
+    coarse.target_patches = 30;
+    const PatchMesh mesh(scene, coarse);
+    const auto visibility = make_visibility("embree", mesh.patches());
+    HierarchicalOptions h;
+    h.power_epsilon = 1e-3;
+    const auto reference = exact_penumbra();
+    const auto refine = [&](double tolerance, double max_pairs, std::size_t& cell_count) {
+        HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
+        PatchMesh cells = sol.tree.conforming_mesh(sol.leaves);
+        SolveResult res = sol.result;
+        DisplayRefinement display{tolerance};
+        display.max_pairs = max_pairs;
+        EXPECT_EQ(gather_hierarchical_point_values(sol, cells, *visibility, res, "vertices", display),
+                  GatherOutcome::gathered);
+        cell_count = cells.size();
+        return score_at_probes(cells, res.radiosity, reference, res.point_radiosity).max_smooth;
+    };
+    const double tolerance = adaptive_display_tolerance(std::nullopt);
+    std::size_t plain_cells = 0, full_cells = 0, short_cells = 0;
+    const double plain = refine(0.0, 0.0, plain_cells);
+    const double full = refine(tolerance, 0.0, full_cells);
+    const double short_budget = refine(tolerance, 1e5, short_cells);
+    std::cout << "no display cells: " << plain_cells << " cells, worst " << plain << "; default budget " << full_cells
+              << ", worst " << full << "; 1e5 pairs " << short_cells << ", worst " << short_budget << "\n";
+    EXPECT_GT(full_cells, 2 * plain_cells);
+    EXPECT_GT(short_cells, plain_cells);
+    EXPECT_LT(short_cells - plain_cells, (full_cells - plain_cells) / 4);
+    EXPECT_LT(short_budget, 0.75 * plain);
+    EXPECT_LT(full, 0.5 * plain);
+}
