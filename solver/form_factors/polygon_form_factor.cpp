@@ -306,7 +306,7 @@ double polygon_form_factor(std::span<const glm::dvec3> from, const glm::dvec3& n
     // F <= min(A_cf, A_ct) / A_from, far below the tolerance (F_cf->ct <= 1 and, by
     // reciprocity, A_cf F_cf->ct <= A_ct); its edge sums cancel to rounding, so the contour
     // integral could not reach a tolerance relative to it and would spend its whole budget.
-    if (std::min(a_cf, a_ct) <= 1e-3 * rel_tol * a_from) return 0.0;
+    if (std::min(a_cf, a_ct) <= std::max(1e-3 * rel_tol, 1e-24) * a_from) return 0.0;
     // F_from->to = (A_cf / A_from) F_cf->ct.
     const glm::dvec3 c_f = centroid(cf), c_t = centroid(ct);
     const double r_f = radius(cf, c_f), r_t = radius(ct, c_t);
