@@ -23,7 +23,9 @@ namespace bounce {
 /// polygon with Gauss-Legendre orders n = 1, 2, 3, ... until two successive orders agree within
 /// `rel_tol` (View3D's stopping rule, Walton 2002); near, touching and edge-sharing pairs use the
 /// contour integral (contour_form_factor). The result is within about rel_tol of the exact value
-/// (1e-9 asked: 1e-12 measured on the tables of shared/VALIDATION.md).
+/// (1e-9 asked: 1e-12 measured on the tables of shared/VALIDATION.md), and within an absolute
+/// max(1e-3 rel_tol, 1e-24) more: a clipped part that small a share of `from` (a sliver where
+/// a corner grazes the other's plane) is dropped, since F <= min(A_from', A_to') / A_from.
 double polygon_form_factor(std::span<const glm::dvec3> from, const glm::dvec3& n_from, std::span<const glm::dvec3> to,
                            const glm::dvec3& n_to, double rel_tol = 1e-10);
 

@@ -432,8 +432,8 @@ void gather_vertices_anew(const HierarchicalSolution& sol, const PatchMesh& next
     res.point_radiosity = std::move(values);
 }
 
-/// Splits the leaves flagged in `split` for display and gathers the vertices that adds (as
-/// refine_display).
+/// Splits for display the leaves with a positive `miss`, the largest first while `budget`
+/// lasts, and gathers the vertices that adds (as refine_display).
 std::size_t split_for_display(HierarchicalSolution& sol, PatchMesh& elements, std::span<const GatherPoint> old_points,
                               SolveResult& res, VertexStage stage, std::vector<double> miss, double& budget,
                               const Visibility& visibility, const GatherOptions& options,
@@ -441,6 +441,7 @@ std::size_t split_for_display(HierarchicalSolution& sol, PatchMesh& elements, st
                               const std::function<void(std::size_t, std::size_t)>& progress) {
     ElementTree& tree = sol.tree;
     const std::size_t leaves = sol.leaves.size();
+    if (!(budget > 0)) return 0;  // spent by an earlier pass
     std::vector<std::uint8_t> split(leaves, 0);
     {
         // Each split leaf adds at most five vertices (its edges' midpoints and its centre),
@@ -581,7 +582,7 @@ GatherOutcome gather_through_links(const HierarchicalSolution& solution, const P
             for (std::size_t v = 0; v < plan.vertex_points.size(); ++v)
                 original.add(plan.vertex_points[v].surface,
                              {refine->elements->vertex_position(v), res.point_radiosity[v]});
-            // The passes share one budget.
+            // The passes share one budget, counted on the element links' ends.
             double budget = refine->options.max_pairs > 0 ? refine->options.max_pairs
                                                           : hierarchical_display_budget(plan.links.first.back());
             refine_display(*refine->solution, *refine->elements, plan.vertex_points, res,

@@ -83,11 +83,14 @@ struct DisplayRefinement {
     double max_pairs = 0.0;
 };
 
-/// The default budget of display refinement for a solution of `links` links: 60 vertex-link
-/// pairs a link, at most kMaxGatherPairs. The passes then cost a few times the solve's own
-/// link work, however many leaves of a cluttered scene bend the light (at a 0.25% tolerance
-/// most of them can).
-inline double hierarchical_display_budget(std::size_t links) { return std::min(kMaxGatherPairs, 60.0 * double(links)); }
+/// The default budget of display refinement for a solution whose element links have
+/// `link_ends` ends (each link is held at both its ends; cluster links not counted): 60
+/// vertex-link pairs an end, at most kMaxGatherPairs. The passes then cost a few times the
+/// solve's own link work, however many leaves of a cluttered scene bend the light (at a 0.25%
+/// tolerance most of them can).
+inline double hierarchical_display_budget(std::size_t link_ends) {
+    return std::min(kMaxGatherPairs, 60.0 * double(link_ends));
+}
 
 /// The display tolerance `--adaptive` gathers with unless one is given (`--display-tolerance`,
 /// 0 turns it off): a quarter of a percent of the leaf's value is below what a colour map
@@ -109,8 +112,9 @@ inline double adaptive_display_tolerance(std::optional<double> given) {
 /// mesh and spreads the per-leaf arrays of `res` and of solution.result (radiosity,
 /// irradiance, unshot, display) to the new leaves; `res` must hold one radiosity per leaf. The
 /// old vertices keep their values. The links and the energy account are unchanged: a split
-/// leaf's children tile it with its radiosity. No leaf is split when the new vertices would
-/// take more than kMaxGatherPairs vertex-source pairs.
+/// leaf's children tile it with its radiosity. The passes share DisplayRefinement::max_pairs
+/// vertex-source pairs (hierarchical_display_budget): a pass that would pass it splits the
+/// leaves that miss most first, and is the last.
 GatherOutcome gather_hierarchical_point_values(
     HierarchicalSolution& solution, PatchMesh& elements, const Visibility& visibility, SolveResult& res,
     const std::string& mode, const DisplayRefinement& display, const std::atomic<bool>* cancel = nullptr,

@@ -31,8 +31,11 @@ struct SplitPoint {
 };
 
 /// A cell to try a split of, and how far interpolation misses the light inside it (the
-/// largest relative miss or corner step that made it a candidate): when the gather budget
-/// cannot take every candidate of a level, the worst go first.
+/// largest relative miss or corner step that made it a candidate; a child inherits its
+/// parent's worst miss when its own step is smaller): when the gather budget cannot take every
+/// candidate of a level, the worst go first. Misses and steps are both shares of the larger
+/// value, so one ranking serves, though they are tried against different thresholds
+/// (tolerance and corner_spread): a step is a miss that interpolation cannot mend.
 struct Candidate {
     std::uint32_t cell;
     double miss;

@@ -19,7 +19,7 @@ namespace bounce {
 
 /// The vertex-patch pairs display refinement gathers over at most by default, for a mesh of
 /// n patches: 30 n^2, about the form factors' own time (n^2 / 2 pairs, each traced with
-/// several rays, against one or a few a gathered pair), and never less than the point
+/// several rays, where a gathered pair takes one or a few), and never less than the point
 /// gather's budget (kMaxGatherPairs in point_values.h, 2e8): a cluttered room's shadow lines
 /// ask for several levels of new points where most of its patches bend the light.
 inline double display_pairs_budget(std::size_t patches) {

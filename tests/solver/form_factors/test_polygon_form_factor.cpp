@@ -160,18 +160,22 @@ TEST(PolygonFormFactor, AWallRisingAStripAboveTheFloorsPlaneKeepsItsStrip) {
     // A unit wall x = 0 facing +x whose top edge rises h above the floor's plane: only the
     // strip 0 <= z <= h sees the floor, the shared-edge case from an h-high strip, so
     // F = h F(h x 1 -> 1 x 1). Strips far thinner than the tolerance (a corner grazing the
-    // other's plane) are dropped, bounded by F <= h; thin strips above it keep their value.
+    // other's plane) are dropped; thin strips above it keep their value.
     for (const double h : {1e-4, 1e-2, 0.5}) {
         const Poly wall = {{0, 0, h - 1}, {0, 1, h - 1}, {0, 1, h}, {0, 0, h}};
         const double f = polygon_form_factor(wall, east, lower(0, 1, 0, 1), up, 1e-10);
         EXPECT_LT(rel(f, h * perpendicular_rectangles(1, h, 1)), 1e-8) << h << ": " << f;
     }
-    for (const double h : {1e-15, 1e-17}) {
+    // At the ray-cast method's tolerance, 1e-6, a strip below 1e-9 of the wall is dropped
+    // (F = 0, not h / 2; the clip's rounding alone removes only strips below 1e-12 of the
+    // size); one above it is kept, and a strip this thin sees the floor as its edge does,
+    // F -> h F(0 x 1 -> 1 x 1), taken at 1e-6.
+    const auto strip = [](double h) {
         const Poly wall = {{0, 0, h - 1}, {0, 1, h - 1}, {0, 1, h}, {0, 0, h}};
-        const double f = polygon_form_factor(wall, east, lower(0, 1, 0, 1), up, 1e-10);
-        EXPECT_GE(f, 0.0);
-        EXPECT_LE(f, h) << h;
-    }
+        return polygon_form_factor(wall, east, lower(0, 1, 0, 1), up, 1e-6);
+    };
+    EXPECT_EQ(strip(1e-10), 0.0);
+    EXPECT_LT(rel(strip(1e-8), 1e-8 * perpendicular_rectangles(1, 1e-6, 1)), 1e-5) << strip(1e-8);
 }
 
 TEST(PolygonFormFactor, SeparatedProductRuleEqualsThePlainDoubleSum) {

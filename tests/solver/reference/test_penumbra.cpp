@@ -199,7 +199,7 @@ TEST(Penumbra, APatchWhoseMeanMatchesItsCornersIsSplitWhereTheyDisagree) {
 }
 
 TEST(Penumbra, AShortGatherBudgetSplitsTheCellsThatMissMost) {
-    // A budget for 40 splits of the 300 patches (in a cluttered room most patches bend the
+    // A budget for 40 splits of the 314 patches (in a cluttered room most patches bend the
     // light and the budget runs out): the level that would pass it takes the patches whose
     // mean and corners disagree most, which the penumbra crosses, and is the last.
     const CoarseBlockedLamp lamp;
