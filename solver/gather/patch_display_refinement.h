@@ -6,7 +6,6 @@
 // DisplayRefinement in hierarchical_point_values.h).
 #pragma once
 
-#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <functional>
@@ -16,15 +15,6 @@
 #include "solver/visibility/visibility.h"
 
 namespace bounce {
-
-/// The vertex-patch pairs display refinement gathers over at most by default, for a mesh of
-/// n patches: 30 n^2, about the form factors' own time (n^2 / 2 pairs, each traced with
-/// several rays, where a gathered pair takes one or a few), and never less than the point
-/// gather's budget (kMaxGatherPairs in point_values.h, 2e8): a cluttered room's shadow lines
-/// ask for several levels of new points where most of its patches bend the light.
-inline double display_pairs_budget(std::size_t patches) {
-    return std::max(2e8, 30.0 * double(patches) * double(patches));
-}
 
 struct PatchDisplayRefinement {
     /// A cell is kept split where the value gathered at one of its new points (an edge's
@@ -48,7 +38,7 @@ struct PatchDisplayRefinement {
     /// a split, each over every patch). A level that would pass it takes the cells that miss
     /// most (the largest relative miss or corner step first), and is the last: in a cluttered
     /// scene, where most patches bend the light, the sharpest shadow lines get the splits.
-    double max_pairs = 0.0;  // 0: display_pairs_budget(patches)
+    double max_pairs = 0.0;  // 0: display_pairs_budget(patches), point_values.h
 };
 
 /// The display tolerance the patch solvers gather with unless one is given.

@@ -3,6 +3,7 @@
 // as the command line and the Python module both ask for it.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <functional>
@@ -32,6 +33,15 @@ GatherOptions point_value_options();
 /// epsilon 3e-6 gathered 1.29e8 of them in 31 s, its point data 1.7% off the probes at the
 /// median against 4.8% averaged).
 inline constexpr double kMaxGatherPairs = 2e8;
+
+/// The vertex-patch pairs display refinement (refine_patch_display) gathers over at most by
+/// default, for a mesh of n patches: 30 n^2, about the form factors' own time (n^2 / 2 pairs,
+/// each traced with several rays, where a gathered pair takes one or a few), and never less
+/// than the point gather's budget: a cluttered room's shadow lines ask for several levels of
+/// new points where most of its patches bend the light.
+inline double display_pairs_budget(std::size_t patches) {
+    return std::max(kMaxGatherPairs, 30.0 * double(patches) * double(patches));
+}
 
 enum class GatherOutcome {
     gathered,     // res.point_radiosity (and for "centres" res.gathered_centres) filled

@@ -77,6 +77,25 @@ std::vector<ReferencePoint> exact_penumbra() {
     return out;
 }
 
+/// The blocked lamp solved by hierarchical radiosity from about 30 patches (what `bounce solve
+/// --adaptive` starts from) at `power_epsilon`, its point data gathered with `display`:
+/// the score across the exact penumbra, and the cells it ends with.
+ProbeScore adaptive_on_blocked_lamp(double power_epsilon, const DisplayRefinement& display, std::size_t& cell_count) {
+    MeshingOptions coarse;
+    coarse.target_patches = 30;
+    const PatchMesh mesh(blocked_lamp(), coarse);
+    const auto visibility = make_visibility("embree", mesh.patches());
+    HierarchicalOptions h;
+    h.power_epsilon = power_epsilon;
+    HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
+    PatchMesh cells = sol.tree.conforming_mesh(sol.leaves);
+    SolveResult res = sol.result;
+    EXPECT_EQ(gather_hierarchical_point_values(sol, cells, *visibility, res, "vertices", display),
+              GatherOutcome::gathered);
+    cell_count = cells.size();
+    return score_at_probes(cells, res.radiosity, exact_penumbra(), res.point_radiosity);
+}
+
 }  // namespace
 
 TEST(Penumbra, TheDefaultRunsPointDataFollowsABlockersPenumbra) {
@@ -95,24 +114,12 @@ TEST(Penumbra, TheDefaultRunsPointDataFollowsABlockersPenumbra) {
 }
 
 TEST(Penumbra, AdaptivePointDataFollowsABlockersPenumbra) {
-    const Scene scene = blocked_lamp();
-    MeshingOptions coarse;
-    coarse.target_patches = 30;  // what `bounce solve --adaptive` starts from
-    const PatchMesh mesh(scene, coarse);
-    const auto visibility = make_visibility("embree", mesh.patches());
-    HierarchicalOptions h;
-    h.power_epsilon = adaptive_power_epsilon(0.0);
-    HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
-    PatchMesh cells = sol.tree.conforming_mesh(sol.leaves);
-    SolveResult res = sol.result;
-    ASSERT_EQ(gather_hierarchical_point_values(sol, cells, *visibility, res, "vertices",
-                                               DisplayRefinement{adaptive_display_tolerance(std::nullopt)}),
-              GatherOutcome::gathered);
-    const auto reference = exact_penumbra();
-    const ProbeScore s = score_at_probes(cells, res.radiosity, reference, res.point_radiosity);
-    std::cout << cells.size() << " cells: point data " << s.rms_smooth << " RMS, " << s.max_smooth
-              << " worst; patch values " << s.rms_patch << " RMS, " << s.max_patch << " worst\n";
-    ASSERT_EQ(s.scored, reference.size());
+    std::size_t cells = 0;
+    const ProbeScore s = adaptive_on_blocked_lamp(adaptive_power_epsilon(0.0),
+                                                  DisplayRefinement{adaptive_display_tolerance(std::nullopt)}, cells);
+    std::cout << cells << " cells: point data " << s.rms_smooth << " RMS, " << s.max_smooth << " worst; patch values "
+              << s.rms_patch << " RMS, " << s.max_patch << " worst\n";
+    ASSERT_EQ(s.scored, exact_penumbra().size());
     EXPECT_LE(s.max_smooth, 0.03);
 }
 
@@ -232,24 +239,10 @@ TEST(Penumbra, AdaptiveDisplayPassesShareABudget) {
     // leaves (power epsilon 1e-3) under a blocked lamp: a budget for a small share of the
     // passes adds a small share of their cells and still brings the penumbra's worst probe
     // closer to the exact light than no display cells do.
-    const Scene scene = blocked_lamp();
-    MeshingOptions coarse;
-    coarse.target_patches = 30;
-    const PatchMesh mesh(scene, coarse);
-    const auto visibility = make_visibility("embree", mesh.patches());
-    HierarchicalOptions h;
-    h.power_epsilon = 1e-3;
-    const auto reference = exact_penumbra();
-    const auto refine = [&](double tolerance, double max_pairs, std::size_t& cell_count) {
-        HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, h);
-        PatchMesh cells = sol.tree.conforming_mesh(sol.leaves);
-        SolveResult res = sol.result;
+    const auto refine = [](double tolerance, double max_pairs, std::size_t& cell_count) {
         DisplayRefinement display{tolerance};
         display.max_pairs = max_pairs;
-        EXPECT_EQ(gather_hierarchical_point_values(sol, cells, *visibility, res, "vertices", display),
-                  GatherOutcome::gathered);
-        cell_count = cells.size();
-        return score_at_probes(cells, res.radiosity, reference, res.point_radiosity).max_smooth;
+        return adaptive_on_blocked_lamp(1e-3, display, cell_count).max_smooth;
     };
     const double tolerance = adaptive_display_tolerance(std::nullopt);
     std::size_t plain_cells = 0, full_cells = 0, short_cells = 0;
