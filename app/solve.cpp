@@ -50,7 +50,7 @@ struct SolveCommand {
     std::vector<std::string> retired;
     HierarchicalOptions hierarchical;
     bool no_clustering = false;       // hierarchical: refine every pair of patches, no cluster hierarchy
-    bool whole_patches = false;       // patch solvers: no open parts (open_parts.h)
+    bool whole_patches = false;       // no open parts (open_parts.h, element_open_shares.h)
     bool no_balance = false;          // patch solvers: rows as sampled (balanced_form_factors.h)
     std::string gather = "vertices";  // point data: final gather at the vertices (point_values.h)
     double display_tolerance = 0.0;   // hierarchical: display refinement of the point data, 0: off
@@ -341,9 +341,9 @@ Command add_solve_command(CLI::App& app, CommonOptions& common) {
         ->check(CLI::IsMember(form_factor_methods()));
     add_form_factor_options(solve_cmd, solve->ff);
     solve_cmd->add_flag("--whole-patches", solve->whole_patches,
-                        "patch solvers: solve on whole patches, not on their parts open to the scene (a patch "
-                        "partly under another object then loses the light its buried part sends, and rows keep "
-                        "their sampling error)");
+                        "solve on whole patches and elements, not on their parts open to the scene (a patch "
+                        "partly under another object then loses the light its buried part sends, and the patch "
+                        "solvers' rows keep their sampling error)");
     solve_cmd->add_flag("--no-balance", solve->no_balance, "patch solvers: form-factor rows as sampled, not balanced");
     solve_cmd->add_flag("--ascii", solve->ascii, "write ASCII instead of compressed binary");
     solve_cmd->add_flag("--paraview", solve->paraview,

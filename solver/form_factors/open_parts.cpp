@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
@@ -63,10 +64,11 @@ struct Covers {
     std::vector<glm::dvec3> normals;
 };
 
-/// Traces `side` x `side` points of patch i, `rays` each, and adds what they meet to `c`.
-void trace_points(const std::vector<Patch>& patches, const Visibility& vis, const Covers& covers, std::size_t i,
-                  int side, int rays, double reach, SplitMix64& rng, RayCounts& c) {
-    const Patch& p = patches[i];
+/// Traces `side` x `side` points of polygon p, a part of the scene's patch `own` (which its
+/// rays do not count as met), `rays` each, and adds what they meet to `c`. `patches` are what
+/// the visibility indexes.
+void trace_points(const std::vector<Patch>& patches, const Visibility& vis, const Covers& covers, const Patch& p,
+                  std::size_t own, int side, int rays, double reach, SplitMix64& rng, RayCounts& c) {
     const int ray_side = std::max(1, int(std::lround(std::sqrt(double(rays)))));
     std::vector<int> hits(std::size_t(ray_side * ray_side));
     for (int a = 0; a < side; ++a)
@@ -81,7 +83,7 @@ void trace_points(const std::vector<Patch>& patches, const Visibility& vis, cons
                 if (q == Visibility::kNothing && covers.crossed_by(x, d)) q = kIntoCover;
                 // 0: nothing or a mirror, 1: a front, 2: a back side
                 hits[std::size_t(k)] = q == kIntoCover                                   ? 2
-                                       : q < 0 || q == int(i)                            ? 0
+                                       : q < 0 || q == int(own)                          ? 0
                                        : glm::dot(patches[std::size_t(q)].normal, d) < 0 ? 1
                                                                                          : 2;
                 if (hits[std::size_t(k)] != 2) ++open;
@@ -101,9 +103,14 @@ double OpenPart::shot_scale(double row_sum) const {
     return std::min(1.0, area_share / row_sum);
 }
 
-std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibility& visibility, int points, int rays,
-                                 std::uint64_t seed, const std::atomic<bool>* cancel,
-                                 std::span<const CoveredRegion> covered) {
+namespace {
+
+/// open_parts and element_open_parts: polygon i of `sampled` lies on patches[owner(i)].
+template <class Owner>
+std::vector<OpenPart> open_parts_of(const std::vector<Patch>& sampled, const Owner& owner,
+                                    const std::vector<Patch>& patches, const Visibility& visibility, int points,
+                                    int rays, std::uint64_t seed, const std::atomic<bool>* cancel,
+                                    std::span<const CoveredRegion> covered) {
     glm::dvec3 lo(1e300), hi(-1e300);
     for (const auto& p : patches)
         for (int k = 0; k < p.vertex_count; ++k) {
@@ -112,18 +119,18 @@ std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibi
         }
     const double reach = 2.0 * glm::length(hi - lo) + 1.0;  // past every patch
     const Covers covers(covered);
-    std::vector<OpenPart> out(patches.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, patches.size(), 16), [&](const auto& range) {
+    std::vector<OpenPart> out(sampled.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sampled.size(), 16), [&](const auto& range) {
         if (cancel && cancel->load()) return;
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             SplitMix64 rng{seed * 0x9E3779B97F4A7C15ull + i};
             RayCounts c;
-            trace_points(patches, visibility, covers, i, points, rays, reach, rng, c);
+            trace_points(patches, visibility, covers, sampled[i], owner(i), points, rays, reach, rng, c);
             // Points that disagree: the patch straddles a cover's edge; its open share is
             // worth a finer look (it scales the patch's irradiance).
             if (c.open_points > 0 && c.open_points < c.points) {
                 c = RayCounts{};
-                trace_points(patches, visibility, covers, i, 2 * points, rays, reach, rng, c);
+                trace_points(patches, visibility, covers, sampled[i], owner(i), 2 * points, rays, reach, rng, c);
             }
             OpenPart& o = out[i];
             o.area_share = double(c.open_points) / double(c.points);
@@ -136,6 +143,25 @@ std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibi
     });
     if (cancel && cancel->load()) throw Interrupted("interrupted while finding the patches' open parts");
     return out;
+}
+
+}  // namespace
+
+std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibility& visibility, int points, int rays,
+                                 std::uint64_t seed, const std::atomic<bool>* cancel,
+                                 std::span<const CoveredRegion> covered) {
+    return open_parts_of(
+        patches, [](std::size_t i) { return i; }, patches, visibility, points, rays, seed, cancel, covered);
+}
+
+std::vector<OpenPart> element_open_parts(const std::vector<Patch>& elements, std::span<const std::uint32_t> patch_of,
+                                         const std::vector<Patch>& patches, const Visibility& visibility, int points,
+                                         int rays, std::uint64_t seed, const std::atomic<bool>* cancel,
+                                         std::span<const CoveredRegion> covered) {
+    if (patch_of.size() != elements.size()) throw std::invalid_argument("element open parts: one patch per element");
+    return open_parts_of(
+        elements, [&](std::size_t i) { return std::size_t(patch_of[i]); }, patches, visibility, points, rays, seed,
+        cancel, covered);
 }
 
 std::vector<Patch> open_part_patches(const std::vector<Patch>& patches, const std::vector<OpenPart>& open) {

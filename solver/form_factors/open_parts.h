@@ -56,6 +56,14 @@ std::vector<OpenPart> open_parts(const std::vector<Patch>& patches, const Visibi
                                  int rays = 16, std::uint64_t seed = 1, const std::atomic<bool>* cancel = nullptr,
                                  std::span<const CoveredRegion> covered = {});
 
+/// The same for parts of patches (the elements of a hierarchical solve): element i lies on
+/// patches[patch_of[i]], the patches being what `visibility` traces against.
+std::vector<OpenPart> element_open_parts(const std::vector<Patch>& elements, std::span<const std::uint32_t> patch_of,
+                                         const std::vector<Patch>& patches, const Visibility& visibility,
+                                         int points = 4, int rays = 16, std::uint64_t seed = 1,
+                                         const std::atomic<bool>* cancel = nullptr,
+                                         std::span<const CoveredRegion> covered = {});
+
 /// The patches with the areas that receive in the solve (OpenPart::receiving_share), for the
 /// matrix solvers and the energy account.
 std::vector<Patch> open_part_patches(const std::vector<Patch>& patches, const std::vector<OpenPart>& open);

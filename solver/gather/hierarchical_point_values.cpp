@@ -206,12 +206,14 @@ std::vector<Rgb> regathered_radiosity(const HierarchicalSolution& sol, const std
     for (std::size_t i = tree.size(); i-- > 0;) {  // children follow their parent in the node order
         const auto& node = tree.node(i);
         if (node.leaf()) continue;
+        // The open parts' mean, as the solve's (hierarchical_iteration.h).
+        const bool open = sol.sending_share(i) > 0.0;
         Rgb sum;
         for (int c = 0; c < 4; ++c) {
             const auto child = std::size_t(node.first_child + c);
-            sum += B[child] * nodes[child].area;
+            sum += B[child] * (nodes[child].area * (open ? sol.sending_share(child) : 1.0));
         }
-        B[i] = sum * (1.0 / nodes[i].area);
+        B[i] = sum * (1.0 / (nodes[i].area * sol.receiving_share(i)));
     }
     return B;
 }
@@ -236,8 +238,9 @@ void cells_from_centres(const HierarchicalSolution& sol, const std::vector<Rgb>&
     for (std::size_t k = 0; k < n; ++k) {
         const Patch& p = nodes[sol.leaves[k]];
         const std::uint32_t r = tree.node(sol.leaves[k]).root;
-        solve_power[r] += (res.radiosity[k] - p.emission) * p.area;
-        gathered_power[r] += (centres[k] - p.emission) * p.area;
+        const double area = p.area * sol.sending_share(sol.leaves[k]);  // what sends
+        solve_power[r] += (res.radiosity[k] - p.emission) * area;
+        gathered_power[r] += (centres[k] - p.emission) * area;
     }
     for (std::size_t k = 0; k < n; ++k) {
         const Patch& p = nodes[sol.leaves[k]];
@@ -488,6 +491,7 @@ std::size_t split_for_display(HierarchicalSolution& sol, PatchMesh& elements, st
             from.push_back(k);
             stage.radiosity.push_back(b);
             sol.node_radiosity.push_back(node_b);
+            if (!sol.open_share.empty()) sol.open_share.push_back(sol.open_share[leaf]);
             stage.links.first.push_back(row_end);  // no links of their own: they gather through the leaf's
             stage.sources.parent.push_back(std::int64_t(leaf));
             stage.sources.irradiance.push_back(e);

@@ -59,16 +59,27 @@ double contraction_bound(const std::vector<Patch>& patches, const std::vector<do
 }
 
 void gathered_energy_account(const std::vector<Patch>& geometry, const std::vector<std::uint32_t>& leaves,
-                             SolveResult& res) {
+                             SolveResult& res, std::span<const double> open_share) {
     res.emitted_power = res.absorbed_power = res.escaped_power = res.unshot_power = Rgb();
+    res.back_absorbed_power = Rgb();
     Rgb power, arriving;
     for (std::size_t k = 0; k < leaves.size(); ++k) {
         const Patch& g = geometry[leaves[k]];
         const Rgb& h = res.irradiance[k];
-        res.emitted_power += g.emission * g.area;
-        res.absorbed_power += (h - g.reflectance * h) * g.area;
-        arriving += h * g.area;
-        power += res.radiosity[k] * g.area;
+        const double open = k < open_share.size() ? open_share[k] : 1.0;
+        if (open <= 0.0) {  // buried: receives over its whole area, sends nothing
+            const Rgb kept = (h + g.emission) * g.area;
+            res.emitted_power += g.emission * g.area;
+            res.absorbed_power += kept;
+            res.back_absorbed_power += kept;
+            arriving += h * g.area;
+            continue;
+        }
+        const double area = g.area * open;
+        res.emitted_power += g.emission * area;
+        res.absorbed_power += (h - g.reflectance * h) * area;
+        arriving += h * area;
+        power += res.radiosity[k] * area;
     }
     res.escaped_power = power - arriving;
 }

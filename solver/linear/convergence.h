@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "mesh/meshing/patch.h"
@@ -28,9 +29,12 @@ double contraction_bound(const std::vector<Patch>& patches, const std::vector<do
 /// The energy account of a gathering solution on elements: element k is geometry[leaves[k]]
 /// with res.radiosity[k] and res.irradiance[k] set. Fills emitted, absorbed ((1 - rho) H A)
 /// and escaped power (what leaves the surfaces, B A, less what arrives, H A: it went out
-/// through the openings); nothing is unshot.
+/// through the openings); nothing is unshot. `open_share` (per element, or empty: all open):
+/// the share of its area open to the scene, over which it emits, sends and receives (B and H
+/// being the open part's); an element with none open receives over its whole area and sends
+/// nothing, so what reaches it and what it emits is absorbed (as by a back side).
 void gathered_energy_account(const std::vector<Patch>& geometry, const std::vector<std::uint32_t>& leaves,
-                             SolveResult& res);
+                             SolveResult& res, std::span<const double> open_share = {});
 
 /// The energy account of a gathering solution on the full matrix, from res.radiosity: the
 /// irradiance H_j = sum_i B_i A_i F_ij / A_j, emitted, absorbed ((1 - rho) H A) and escaped

@@ -92,8 +92,9 @@ struct SolveRequest {
     std::optional<std::size_t> series;    // a snapshot every N shots or sweeps (SolveHooks::snapshot)
     std::size_t max_matrix_mb = 2048;     // refuse a larger form-factor matrix
     bool residuals = false;               // shooting: build the matrix too, to log residuals
-    /// Patch solvers with visibility: solve on the patches' open parts (open_parts.h); false:
-    /// whole patches, with rows as the form factors give them.
+    /// Patch solvers with visibility: solve on the patches' open parts (open_parts.h); the
+    /// hierarchical solver: on the elements' (element_open_shares.h); false: whole patches and
+    /// elements, with rows as the form factors give them.
     bool open_parts = true;
     /// With open parts, where the whole matrix fits (the matrix solvers; shooting within its
     /// cache): reciprocal rows that sum to the open share on closed parts

@@ -150,7 +150,9 @@ SolvedScene solve_refining(const Scene& scene, const SolveRequest& r, const Solv
     settings << "patches=" << mesh->size()
              << " rays=" << with_default_rays(r.form_factors, kRefinementRays).visibility_rays
              << " seed=" << r.form_factors.seed;
-    const HierarchicalOptions h = hierarchical_options(r, hooks);
+    HierarchicalOptions h = hierarchical_options(r, hooks);
+    h.open_parts = r.open_parts;
+    h.covered = scene.covered;
     HierarchicalSolution sol = solve_hierarchical(mesh->patches(), *visibility, h);
     stage_end(hooks);
     auto elements = std::make_shared<PatchMesh>(sol.tree.conforming_mesh(sol.leaves));

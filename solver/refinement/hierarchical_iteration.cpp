@@ -59,11 +59,13 @@ public:
           m_b(m_n + m_nc),
           m_h(m_n + m_nc),
           m_gathered(m_n + m_nc),
-          m_next(m_n + m_nc) {
+          m_next(m_n + m_nc),
+          m_row(m_n, 1.0) {
         // One per node: the refiner gave new ones their parent's.
         std::copy_n(x.B.begin(), std::min(x.B.size(), m_n), m_b.begin());
         for (std::size_t c = 0; c < m_nc && c < x.Bc.size(); ++c) m_b[m_n + c] = x.Bc[c];
         lay_out(system.links);
+        set_open_shares(system.open);
         // Parents before children.
         for (std::uint32_t r = 0; r < m_tree.root_count(); ++r) m_order.push_back(r);
         for (std::size_t k = 0; k < m_order.size(); ++k)
@@ -76,6 +78,7 @@ public:
         if (m_oriented)
             for (std::size_t c = 0; c < m_nc; ++c)
                 for (int x = 0; x < 6; ++x) m_bin_b[6 * c + std::size_t(x)] = m_b[m_n + c];  // until the first pull
+        if (system.open) set_rows();
     }
 
     /// Iterates until the leaves settle (solve_links); into res its steps and status.
@@ -103,6 +106,10 @@ private:
         double F;
     };
     void lay_out(const std::vector<HierarchicalLink>& links);
+    /// Every slot's sending and receiving share and every cluster's open axis areas.
+    void set_open_shares(const ElementOpenness* open);
+    /// Every leaf's row (m_row), from the form factors of the links on its path.
+    void set_rows();
     bool cancelled() const { return m_cancel && m_cancel->load(std::memory_order_relaxed); }
 
     std::size_t slot(std::uint32_t ref) const {
@@ -119,10 +126,18 @@ private:
     }
     glm::dvec3 centre_of(std::size_t s) const { return s >= m_n ? m_C[s - m_n].centre : m_G[s].centre; }
     double area_of(std::size_t s) const { return s >= m_n ? m_C[s - m_n].area : m_G[s].area; }
+    /// The open area a node or cluster turns along axis direction x (+x +y +z -x -y -z).
     double axis_area_of(std::uint32_t ref, int x) const {
-        if (ClusterTree::is_cluster(ref)) return m_clusters->cluster(ref).axis_area[std::size_t(x)];
+        if (ClusterTree::is_cluster(ref)) return m_open_axis[ClusterTree::index(ref)][std::size_t(x)];
         const double c = m_G[ref].normal[x % 3];
-        return m_G[ref].area * std::max(0.0, x < 3 ? c : -c);
+        return m_G[ref].area * std::max(0.0, x < 3 ? c : -c) * m_send[ref];
+    }
+    double open_area(std::uint32_t ref) const { return area(ref) * m_send[slot(ref)]; }
+    /// The irradiance slot s takes from its parent `up`: the parent's, on s's open part. What
+    /// an element or cluster gathers lands on its open part, so a buried member of an open one
+    /// gets none of it.
+    Rgb handed_down(std::size_t s, std::size_t up) const {
+        return m_send[s] > 0.0 || m_send[up] <= 0.0 ? m_h[up] : Rgb();
     }
 
     const std::vector<ClusterTree::Cluster> m_no_clusters;
@@ -135,8 +150,15 @@ private:
     const std::vector<ClusterTree::Cluster>& m_C;
     const std::size_t m_n, m_nc;  // element nodes, clusters
     const bool m_oriented;
-    std::vector<Rgb> m_b, m_h;  // per slot: radiosity and irradiance
+    std::vector<Rgb> m_b, m_h;  // per slot: radiosity and irradiance (on the open part)
+    // Per slot: the share of its area that sends (open) and that receives (open, or the whole
+    // where nothing is open).
+    std::vector<double> m_send, m_recv;
+    std::vector<std::array<double, 6>> m_open_axis;  // per cluster: its members' open axis areas
     std::vector<Rgb> m_gathered, m_next;
+    // Per element node: a leaf's row, the share of what its open part sends that its links
+    // carry to patches (set_rows).
+    std::vector<double> m_row;
     std::vector<std::size_t> m_incoming_first;
     std::vector<Incoming> m_incoming;
     std::vector<std::uint32_t> m_order;  // element nodes, parents before children
@@ -169,6 +191,83 @@ void LinkIteration::lay_out(const std::vector<HierarchicalLink>& links) {
     }
 }
 
+void LinkIteration::set_open_shares(const ElementOpenness* open) {
+    const std::size_t n = m_n;
+    m_send.assign(n + m_nc, 1.0);
+    m_open_axis.resize(m_nc);
+    for (std::size_t c = 0; c < m_nc; ++c) m_open_axis[c] = m_C[c].axis_area;
+    if (open && !open->all_open) {
+        std::copy_n(open->share.begin(), std::min(open->share.size(), n), m_send.begin());
+        // Children after parents: a cluster's members are done before it.
+        for (std::size_t c = m_nc; c-- > 0;) {
+            const auto& k = m_C[c];
+            double sent = 0.0;
+            bool whole = true;
+            for (const std::uint32_t child : k.child) {
+                sent += open_area(child);
+                whole = whole && m_send[slot(child)] == 1.0;
+            }
+            m_send[n + c] = whole ? 1.0 : std::clamp(sent / k.area, 0.0, 1.0);
+            for (int x = 0; x < 6; ++x)
+                m_open_axis[c][std::size_t(x)] = axis_area_of(k.child[0], x) + axis_area_of(k.child[1], x);
+        }
+    }
+    m_recv.resize(n + m_nc);
+    for (std::size_t s = 0; s < n + m_nc; ++s) m_recv[s] = m_send[s] > 0.0 ? m_send[s] : 1.0;
+}
+
+// A leaf's open part sends over the links on its path (its own, its ancestors', its
+// clusters') the sum of their form factors per unit of its open area: its row. What the row
+// leaves out escapes or meets back sides (the energy account splits it by the leaf's
+// OpenPart::back_share). A link hands every leaf under it the mean factor of its end, so a
+// single leaf's row strays from its own by the link's error, which sums over the leaves of
+// a linked element cancel. An oriented cluster sends along u the mean of its members turned
+// that way (AxisWeights), which a member's row follows.
+void LinkIteration::set_rows() {
+    const std::size_t n = m_n;
+    std::vector<double> row(n + m_nc, 0.0);  // per unit of open area, alike for every member
+    // Oriented clusters send along u the mean of their members turned that way
+    // (AxisWeights): per cluster and axis bin, what a member's unit of axis area sends.
+    std::vector<std::array<double, 6>> by_axis(m_nc, std::array<double, 6>{});
+    for (std::size_t r = 0; r < n + m_nc; ++r) {
+        double sum = 0.0;
+        for (std::size_t e = m_incoming_first[r]; e < m_incoming_first[r + 1]; ++e) {
+            const Incoming& in = m_incoming[e];
+            if (r < n || !in.clustered) {
+                sum += in.F;
+                continue;
+            }
+            const glm::dvec3 v = centre_of(in.src) - centre_of(r);  // r towards the other end
+            const double length = glm::length(v);
+            const AxisWeights w =
+                length > 0 ? AxisWeights(v / length, m_open_axis[r - n]) : AxisWeights(v, std::array<double, 6>{});
+            if (w.none) {
+                sum += in.F;
+                continue;
+            }
+            for (std::size_t k = 0; k < 3; ++k) {
+                const double axis = m_open_axis[r - n][w.bin[k]];
+                if (axis > 0) by_axis[r - n][w.bin[k]] += in.F * area_of(r) * w.w[k] / axis;
+            }
+        }
+        row[r] = sum / m_recv[r];
+    }
+    for (std::size_t c = 0; c < m_nc; ++c) {  // parents before children
+        const auto parent = m_C[c].parent;
+        if (parent < 0) continue;
+        row[n + c] += row[n + std::size_t(parent)];
+        for (std::size_t x = 0; x < 6; ++x) by_axis[c][x] += by_axis[std::size_t(parent)][x];
+    }
+    for (const std::uint32_t i : m_order) {
+        const std::size_t up = above(i);
+        if (up != SIZE_MAX && (m_send[i] > 0.0 || m_send[up] <= 0.0)) row[i] += row[up];
+        if (up != SIZE_MAX && up >= n && m_send[i] > 0.0)
+            for (int x = 0; x < 6; ++x)
+                row[i] += by_axis[up - n][std::size_t(x)] * axis_area_of(i, x) / (m_G[i].area * m_recv[i]);
+        if (m_tree.node(i).leaf()) m_row[i] = row[i];
+    }
+}
+
 void LinkIteration::run(const HierarchicalOptions& options, double tolerance, const std::string& stage,
                         SolveResult& res) {
     res.status = SolveStatus::max_iterations;
@@ -198,6 +297,7 @@ void LinkIteration::run(const HierarchicalOptions& options, double tolerance, co
 
 void LinkIteration::store(HierarchyRadiosity& x) const {
     x.B.assign(m_b.begin(), m_b.begin() + std::ptrdiff_t(m_n));
+    x.rows = m_row;
     x.Bc.assign(m_b.begin() + std::ptrdiff_t(m_n), m_b.end());
     x.H.assign(m_h.begin(), m_h.begin() + std::ptrdiff_t(m_n));
 }
@@ -230,8 +330,8 @@ void LinkIteration::gather() {
                 }
                 const glm::dvec3 u = v / length;
                 // r's members facing src (along u) and src's facing r (along -u).
-                const AxisWeights wr = r >= n ? AxisWeights(u, m_C[r - n].axis_area) : AxisWeights(u, kNone);
-                const AxisWeights ws = src >= n ? AxisWeights(-u, m_C[src - n].axis_area) : AxisWeights(u, kNone);
+                const AxisWeights wr = r >= n ? AxisWeights(u, m_open_axis[r - n]) : AxisWeights(u, kNone);
+                const AxisWeights ws = src >= n ? AxisWeights(-u, m_open_axis[src - n]) : AxisWeights(u, kNone);
                 const Rgb from = ws.none ? m_b[src] : ws.mix(&m_bin_b[6 * (src - n)]);
                 if (wr.none)
                     sum += from * F;
@@ -253,7 +353,8 @@ void LinkIteration::push() {
     for (std::size_t c = 0; c < m_nc; ++c) {
         const auto& k = m_C[c];
         const auto parent = k.parent;
-        m_h[n + c] = m_gathered[n + c] + (parent >= 0 ? m_h[n + std::size_t(parent)] : Rgb());
+        m_h[n + c] = m_gathered[n + c] * (1.0 / m_recv[n + c]) +
+                     (parent >= 0 ? handed_down(n + c, n + std::size_t(parent)) : Rgb());
         if (!m_oriented) continue;
         Rgb* power = &m_bin_power[6 * c];  // own, plus what the parent handed down (added below)
         std::array<double, 6> sa{}, sb{};
@@ -261,7 +362,8 @@ void LinkIteration::push() {
             sa[std::size_t(x)] = axis_area_of(k.child[0], x);
             sb[std::size_t(x)] = axis_area_of(k.child[1], x);
         }
-        const double aa = area(k.child[0]), ab = area(k.child[1]);
+        double aa = open_area(k.child[0]), ab = open_area(k.child[1]);
+        if (!(aa + ab > 0)) aa = area(k.child[0]), ab = area(k.child[1]);
         for (int side = 0; side < 2; ++side) {
             const std::uint32_t child = k.child[std::size_t(side)];
             for (int x = 0; x < 6; ++x) {
@@ -272,14 +374,14 @@ void LinkIteration::push() {
                 if (ClusterTree::is_cluster(child))
                     m_bin_power[6 * ClusterTree::index(child) + std::size_t(x)] += part;
                 else
-                    m_from_cluster[child] += part * (1.0 / m_G[child].area);
+                    m_from_cluster[child] += part * (1.0 / (m_G[child].area * m_recv[child]));
             }
         }
     }
     for (const std::uint32_t i : m_order) {
         const std::size_t up = above(i);
         // (Links an oriented cluster could not orient, ends at one point, went in alike.)
-        m_h[i] = m_gathered[i] + (up != SIZE_MAX ? m_h[up] : Rgb()) +
+        m_h[i] = m_gathered[i] * (1.0 / m_recv[i]) + (up != SIZE_MAX ? handed_down(i, up) : Rgb()) +
                  (m_oriented && up >= n && up != SIZE_MAX ? m_from_cluster[i] : Rgb());
     }
 }
@@ -294,18 +396,23 @@ void LinkIteration::pull() {
         if (node.leaf()) {
             m_next[i] = m_G[i].emission + m_G[i].reflectance * m_h[i];
         } else {
+            // The open parts' mean (a buried node's: the whole's).
+            const bool open = m_send[i] > 0.0;
             Rgb sum;
             for (int c = 0; c < 4; ++c) {
                 const auto child = std::size_t(node.first_child + c);
-                sum += m_next[child] * m_G[child].area;
+                sum += m_next[child] * (m_G[child].area * (open ? m_send[child] : 1.0));
             }
-            m_next[i] = sum * (1.0 / m_G[i].area);
+            m_next[i] = sum * (1.0 / (m_G[i].area * m_recv[i]));
         }
     }
     for (std::size_t c = m_nc; c-- > 0;) {
         const auto& k = m_C[c];
-        m_next[n + c] = (m_next[slot(k.child[0])] * area(k.child[0]) + m_next[slot(k.child[1])] * area(k.child[1])) *
-                        (1.0 / k.area);
+        const bool open = m_send[n + c] > 0.0;
+        const auto weight = [&](std::uint32_t child) { return open ? open_area(child) : area(child); };
+        m_next[n + c] =
+            (m_next[slot(k.child[0])] * weight(k.child[0]) + m_next[slot(k.child[1])] * weight(k.child[1])) *
+            (1.0 / (k.area * m_recv[n + c]));
         if (!m_oriented) continue;
         for (int x = 0; x < 6; ++x) {
             Rgb sum;
@@ -345,7 +452,7 @@ void solve_links(const LinkSystem& system, double tolerance, const std::string& 
     iteration.store(x);
 }
 
-void finish_result(const HierarchyRadiosity& x, HierarchicalSolution& out) {
+void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, HierarchicalSolution& out) {
     const ElementTree& tree = out.tree;
     const std::vector<Rgb>& B = x.B;
     const std::vector<Rgb>& H = x.H;
@@ -358,7 +465,24 @@ void finish_result(const HierarchyRadiosity& x, HierarchicalSolution& out) {
         res.radiosity[k] = B[out.leaves[k]];
         res.irradiance[k] = H[out.leaves[k]];
     }
-    gathered_energy_account(tree.geometry(), out.leaves, res);
+    out.open_share = open && !open->all_open ? open->share : std::vector<double>{};
+    std::vector<double> leaf_share;
+    if (!out.open_share.empty())
+        for (const std::uint32_t leaf : out.leaves) leaf_share.push_back(out.open_share[leaf]);
+    gathered_energy_account(tree.geometry(), out.leaves, res, leaf_share);
+    if (open && x.rows.size() == tree.size()) {
+        // What a leaf sends but its links do not carry, times the share of its open part's
+        // missing rays that met a back side (open_parts.h), is absorbed there, not escaped.
+        for (const std::uint32_t leaf : out.leaves) {
+            const double missing = 1.0 - x.rows[leaf];
+            const double back = leaf < open->back_share.size() ? open->back_share[leaf] : 0.0;
+            if (!(missing > 0.0) || !(back > 0.0) || !(out.sending_share(leaf) > 0.0)) continue;
+            const Rgb kept = B[leaf] * (tree.geometry()[leaf].area * out.sending_share(leaf) * missing * back);
+            res.absorbed_power += kept;
+            res.back_absorbed_power += kept;
+            res.escaped_power -= kept;
+        }
+    }
     out.node_radiosity = B;
     // The irradiance element links bring a node, pushed down the tree (children follow their
     // parent in the node order: split() appends them); what a leaf has beyond it came over
@@ -370,11 +494,14 @@ void finish_result(const HierarchyRadiosity& x, HierarchicalSolution& out) {
     for (std::size_t k = 0; k < gathered_links; ++k) {
         const HierarchicalLink& l = out.links[k];
         if (!l.between_elements()) continue;
-        by_elements[l.a] += B[l.b] * double(l.fab);
-        by_elements[l.b] += B[l.a] * (double(l.fab) * G[l.a].area / G[l.b].area);
+        by_elements[l.a] += B[l.b] * (double(l.fab) / out.receiving_share(l.a));
+        by_elements[l.b] += B[l.a] * (double(l.fab) * G[l.a].area / G[l.b].area / out.receiving_share(l.b));
     }
-    for (std::size_t i = 0; i < tree.size(); ++i)
-        if (tree.node(i).parent >= 0) by_elements[i] += by_elements[std::size_t(tree.node(i).parent)];
+    for (std::size_t i = 0; i < tree.size(); ++i) {
+        const std::int64_t up = tree.node(i).parent;
+        if (up >= 0 && (out.sending_share(i) > 0.0 || out.sending_share(std::size_t(up)) <= 0.0))
+            by_elements[i] += by_elements[std::size_t(up)];
+    }
     out.cluster_irradiance.resize(out.leaves.size());
     for (std::size_t k = 0; k < out.leaves.size(); ++k) {
         const Rgb rest = H[out.leaves[k]] - by_elements[out.leaves[k]];

@@ -7,6 +7,7 @@
 #include "mesh/meshing/element_tree.h"
 #include "solver/linear/solve_result.h"
 #include "solver/refinement/cluster_tree.h"
+#include "solver/refinement/element_open_shares.h"
 #include "solver/refinement/hierarchical_radiosity.h"
 
 namespace bounce::hierarchical {
@@ -17,12 +18,20 @@ struct LinkSystem {
     const ClusterTree* clusters;  // null: no clustering
     const std::vector<HierarchicalLink>& links;
     const HierarchicalOptions& options;
+    /// Per element node, its open part (element_open_shares.h); null: every node is open and
+    /// sends as its links' rows say. A node's radiosity is its open part's, what it gathers
+    /// lands on its open part (on the whole node where none is open: it sends nothing), a
+    /// parent or cluster takes its members' mean weighted by their open areas.
+    const ElementOpenness* open = nullptr;
 };
 
-/// Radiosity B and irradiance H in W/m^2 per element node of the tree, and B per cluster
-/// (Bc, a cluster's members' area-weighted mean).
+/// Radiosity B and irradiance H in W/m^2 per element node of the tree (on its open part,
+/// LinkSystem::open), and B per cluster (Bc, its members' mean weighted by their open areas).
 struct HierarchyRadiosity {
     std::vector<Rgb> B, Bc, H;
+    /// Per element node, with open parts: a leaf's row, the share of what its open part sends
+    /// that its links carry to patches (the rest escapes or meets back sides).
+    std::vector<double> rows;
 };
 
 /// Gather and push-pull until the leaves settle (Jacobi over the hierarchy): every element or
@@ -36,7 +45,7 @@ void solve_links(const LinkSystem& system, double tolerance, const std::string& 
 
 /// The leaves' radiosity and irradiance, and the energy account, into out.result; every
 /// node's radiosity and the leaves' irradiance from cluster links into out (out.links and
-/// out.tree hold the solved hierarchy).
-void finish_result(const HierarchyRadiosity& x, HierarchicalSolution& out);
+/// out.tree hold the solved hierarchy; `open` the nodes' open parts, or null).
+void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, HierarchicalSolution& out);
 
 }  // namespace bounce::hierarchical

@@ -15,6 +15,7 @@
 #include "solver/form_factors/raycast_form_factor.h"
 #include "solver/refinement/cluster_links.h"
 #include "solver/refinement/cluster_tree.h"
+#include "solver/refinement/element_open_shares.h"
 #include "solver/refinement/hierarchical_iteration.h"
 #include "solver/refinement/link_refiner.h"
 #include "solver/visibility/shaft_culler.h"
@@ -176,7 +177,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     auto since_start = [&] {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
     };
-    HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0, 0, 0.0, 0, {}, {}, {}, options.power_epsilon};
+    HierarchicalSolution out{ElementTree(patches), {}, {}, 0, 0, 0, 0.0, 0, {}, {}, {}, {}, options.power_epsilon};
     ElementTree& tree = out.tree;
     const Start start = start_of(patches, options);
     HierarchyRadiosity x;
@@ -201,6 +202,9 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     std::vector<Link> links;
     KnownFactors known;
     SeenVisibility seen;  // partial visibility's ray shares, kept across rounds
+    std::optional<ElementOpenShares> open;
+    const ElementOpenness* openness = nullptr;  // the last round's
+    if (options.open_parts) open.emplace(patches, visibility, options.covered, options.cancel);
     for (int round = 0; round < options.refine_rounds; ++round) {
         const double round_start = since_start();
         const std::string stage = "round " + std::to_string(round + 1) + "/" + std::to_string(options.refine_rounds);
@@ -221,12 +225,13 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         // (the last round starts from it and settles to the tolerance).
         const bool last = round + 1 == options.refine_rounds;
         const double tolerance = last ? options.tolerance : std::max(options.tolerance, 1e-3);
-        solve_links({tree, rounds.clusters, links, options}, tolerance, stage, x, res);
+        openness = open ? &open->update(tree) : nullptr;
+        solve_links({tree, rounds.clusters, links, options, openness}, tolerance, stage, x, res);
         if (res.status == SolveStatus::interrupted) break;
     }
     for (const Link& l : links) out.cluster_links += !l.between_elements();
     out.links = std::move(links);
-    finish_result(x, out);
+    finish_result(x, openness, out);
     res.seconds = since_start();
     return out;
 }
@@ -238,7 +243,7 @@ std::string hierarchical_settings(const HierarchicalOptions& options, const Hier
       << " max_level=" << options.max_level << " refine_rounds=" << options.refine_rounds
       << " clustering=" << (options.clustering ? 1 : 0) << " tolerance=" << options.tolerance
       << " max_iterations=" << options.max_iterations << " elements=" << solution.leaves.size()
-      << " links=" << solution.links.size();
+      << " links=" << solution.links.size() << (options.open_parts ? " open_parts=1" : "");
     return s.str();
 }
 

@@ -4,10 +4,12 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "mesh/meshing/element_tree.h"
+#include "mesh/scene/scene.h"
 #include "solver/form_factors/form_factor_estimator.h"
 #include "solver/linear/solve_result.h"
 #include "solver/refinement/cluster_tree.h"
@@ -46,7 +48,11 @@ struct HierarchicalOptions {
     /// within link_epsilon (a tenth) of the point values, so a tighter form factor buys nothing
     /// the link can keep, and costs quadrature.
     double link_factor_tolerance = 1e-3;
-    double tolerance = 1e-6;  // stop when no element's radiosity changes by more than this, relatively
+    /// Elements emit and receive over their open parts (element_open_shares.h): no light is
+    /// lost where patches lie under or inside other objects.
+    bool open_parts = true;
+    std::span<const CoveredRegion> covered;  // the regions the cuts left out (Scene::covered), for open_parts
+    double tolerance = 1e-6;                 // stop when no element's radiosity changes by more than this, relatively
     std::size_t max_iterations = 1000;
     FormFactorOptions form_factors;
     const std::atomic<bool>* cancel = nullptr;
@@ -99,6 +105,17 @@ struct HierarchicalSolution {
     /// from an ancestor); the rest came over element links, which a final gather can redo with
     /// the exact point kernel (solver/gather/hierarchical_point_values.h).
     std::vector<Rgb> cluster_irradiance;
+    /// Per node, the share of its area open to the scene (element_open_shares.h); empty: every
+    /// node is open. node_radiosity and the leaves' radiosity and irradiance are the open
+    /// parts'.
+    std::vector<double> open_share;
+    /// The share of node i's area that receives: its open share, or the whole node where none
+    /// is open (or none is known: nodes display refinement added).
+    double receiving_share(std::size_t i) const {
+        return i < open_share.size() && open_share[i] > 0.0 ? open_share[i] : 1.0;
+    }
+    /// The share that sends: its open share (1 where none is known).
+    double sending_share(std::size_t i) const { return i < open_share.size() ? open_share[i] : 1.0; }
     /// The refinement's power epsilon. Above 0, links were also accepted because the power
     /// they could misplace is small, so a leaf may hold the mean its coarse ancestor's links
     /// hand all of it; the point gather then re-gathers the leaves first
@@ -136,6 +153,13 @@ struct HierarchicalSolution {
 /// a pair, which the element oracle refines as above). A
 /// cluster's radiosity is its members' area-weighted mean (the power they emit over their
 /// area) and the irradiance it gathers reaches every member alike, so power is kept.
+///
+/// With `open_parts` every leaf is tested as open_parts.h tests a patch (element_open_shares.h),
+/// and the solve works on open parts: an element's radiosity is its open part's, what it
+/// gathers lands on its open part, and a parent or cluster sends its members' mean weighted by
+/// their open areas, so an element partly under or inside another object loses nothing of
+/// what its open part sends. The energy account splits what a leaf's links do not carry
+/// between back sides (absorbed) and openings (escaped) as its rays saw them.
 HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const Visibility& visibility,
                                         const HierarchicalOptions& options);
 

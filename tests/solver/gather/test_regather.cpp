@@ -141,14 +141,17 @@ TEST(Regather, CellsTakeTheCentresShareAndEachPatchKeepsItsPower) {
     std::printf("cell values by the wedge: the solve's %+.4f mean, %.4f RMS; exported %+.4f mean, %.4f RMS\n",
                 solved.mean, solved.rms, cells.mean, cells.rms);
     EXPECT_LT(cells.rms, 0.5 * solved.rms);
-    // Every input patch (root) keeps the power the solve gave it, per channel, and B = E + rho H.
+    // Every input patch (root) keeps the power the solve gave its open part, per channel
+    // (an element partly inside the other box is partly buried: element_open_shares.h), and
+    // B = E + rho H.
     const auto& tree = w.sol.tree;
     std::vector<Rgb> before(tree.root_count()), after(tree.root_count());
     for (std::size_t k = 0; k < w.sol.leaves.size(); ++k) {
         const std::uint32_t r = tree.node(w.sol.leaves[k]).root;
         const Patch& p = tree.geometry()[w.sol.leaves[k]];
-        before[r] += w.sol.result.radiosity[k] * p.area;
-        after[r] += res.radiosity[k] * p.area;
+        const double open_area = p.area * w.sol.sending_share(w.sol.leaves[k]);
+        before[r] += w.sol.result.radiosity[k] * open_area;
+        after[r] += res.radiosity[k] * open_area;
         for (int c = 0; c < 3; ++c) {
             if (!(p.reflectance[c] > 0)) continue;
             EXPECT_NEAR(res.radiosity[k][c], p.emission[c] + p.reflectance[c] * res.irradiance[k][c],

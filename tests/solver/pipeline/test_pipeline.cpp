@@ -302,27 +302,37 @@ TEST(SolveScene, AClosedRoomWithBoxesThatTouchAndCrossLosesNoLight) {
         {"type": "box", "material": "grey", "transform": {"scale": [0.5, 0.8, 0.4],
          "rotate": {"axis": [0, 1, 1], "degrees": 50}, "translate": [0.7, 2.2, -0.4]}}]})");
     const Scene scene = load_scene(path.string());
-    const auto loss = [&](SolverKind solver, bool open) {
+    // The largest share of the emitted power a channel lets escape (negative: gains).
+    const auto loss = [&](SolverKind solver, bool open, bool adaptive = false) {
         SolveRequest r;
         r.solver = solver;
         r.open_parts = open;
+        r.adaptive = adaptive;
         r.gather = GatherMode::none;
         const SolveResult res = solve_scene(scene, r).result;
-        double worst = 0;
+        double worst = -1.0;
         for (int c = 0; c < 3; ++c) {
             const double e = res.emitted_power[c];
             EXPECT_NEAR((res.absorbed_power[c] + res.escaped_power[c] + res.unshot_power[c]) / e, 1.0, 1e-9);
-            worst = std::max(worst, std::abs(res.escaped_power[c]) / e);
+            worst = std::max(worst, res.escaped_power[c] / e);
         }
         return worst;
     };
     const double shooting = loss(SolverKind::shooting, true), gathering = loss(SolverKind::gauss_seidel, true),
-                 whole = loss(SolverKind::shooting, false);
-    std::printf("closed room with boxes: escaped share %.2e (shooting), %.2e (gauss-seidel), whole patches %.2e\n",
-                shooting, gathering, whole);
-    EXPECT_LE(shooting, 1e-3);
-    EXPECT_LE(gathering, 1e-3);
+                 whole = loss(SolverKind::shooting, false), adaptive = loss(SolverKind::hierarchical, true, true),
+                 whole_elements = loss(SolverKind::hierarchical, false, true);
+    std::printf(
+        "closed room with boxes: escaped share %.2e (shooting), %.2e (gauss-seidel), %.2e (adaptive); whole "
+        "patches %.2e, whole elements %.2e\n",
+        shooting, gathering, adaptive, whole, whole_elements);
+    EXPECT_LE(std::abs(shooting), 1e-3);
+    EXPECT_LE(std::abs(gathering), 1e-3);
+    // The hierarchy's elements on their open parts lose nothing either. (Its links' rows do
+    // not sum to exactly one where a linked element's radiosity varies across it, which can
+    // make light: the issue tracks that.)
+    EXPECT_LE(adaptive, 1e-3);
     EXPECT_GT(whole, 1e-3);
+    EXPECT_GT(whole_elements, 1e-3);
 }
 
 TEST(SolveScene, ABrightClosedBoxWithALampUnderItsCeilingConvergesAndKeepsItsLight) {
