@@ -452,6 +452,37 @@ void solve_links(const LinkSystem& system, double tolerance, const std::string& 
     iteration.store(x);
 }
 
+namespace {
+
+/// Per input patch, what its leaves send but their links do not carry (their open areas times
+/// B times one less their rows, summed: a single leaf's row strays both ways by its links'
+/// mean factors, the patch's sum does not), times the share of its open part's missing rays
+/// that met a back side (open_parts.h, weighted by open area), is absorbed there, not escaped.
+void back_sides_absorb(const ElementTree& tree, const HierarchyRadiosity& x, const ElementOpenness& open,
+                       HierarchicalSolution& out) {
+    std::vector<Rgb> missing(tree.root_count());
+    std::vector<double> back(tree.root_count(), 0.0), area(tree.root_count(), 0.0);
+    for (const std::uint32_t leaf : out.leaves) {
+        const double a = tree.geometry()[leaf].area * out.sending_share(leaf);
+        if (!(a > 0.0)) continue;
+        const std::uint32_t r = tree.node(leaf).root;
+        missing[r] += x.B[leaf] * (a * (1.0 - x.rows[leaf]));
+        back[r] += a * (leaf < open.back_share.size() ? open.back_share[leaf] : 0.0);
+        area[r] += a;
+    }
+    SolveResult& res = out.result;
+    for (std::size_t r = 0; r < missing.size(); ++r) {
+        if (!(area[r] > 0.0) || !(back[r] > 0.0)) continue;
+        Rgb kept;
+        for (int c = 0; c < 3; ++c) kept[c] = std::max(0.0, missing[r][c]) * (back[r] / area[r]);
+        res.absorbed_power += kept;
+        res.back_absorbed_power += kept;
+        res.escaped_power -= kept;
+    }
+}
+
+}  // namespace
+
 void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, HierarchicalSolution& out) {
     const ElementTree& tree = out.tree;
     const std::vector<Rgb>& B = x.B;
@@ -470,19 +501,7 @@ void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, Hie
     if (!out.open_share.empty())
         for (const std::uint32_t leaf : out.leaves) leaf_share.push_back(out.open_share[leaf]);
     gathered_energy_account(tree.geometry(), out.leaves, res, leaf_share);
-    if (open && x.rows.size() == tree.size()) {
-        // What a leaf sends but its links do not carry, times the share of its open part's
-        // missing rays that met a back side (open_parts.h), is absorbed there, not escaped.
-        for (const std::uint32_t leaf : out.leaves) {
-            const double missing = 1.0 - x.rows[leaf];
-            const double back = leaf < open->back_share.size() ? open->back_share[leaf] : 0.0;
-            if (!(missing > 0.0) || !(back > 0.0) || !(out.sending_share(leaf) > 0.0)) continue;
-            const Rgb kept = B[leaf] * (tree.geometry()[leaf].area * out.sending_share(leaf) * missing * back);
-            res.absorbed_power += kept;
-            res.back_absorbed_power += kept;
-            res.escaped_power -= kept;
-        }
-    }
+    if (open && x.rows.size() == tree.size()) back_sides_absorb(tree, x, *open, out);
     out.node_radiosity = B;
     // The irradiance element links bring a node, pushed down the tree (children follow their
     // parent in the node order: split() appends them); what a leaf has beyond it came over
