@@ -313,7 +313,7 @@ void bind_solve(py::module_& m) {
           "for the patch solvers, 0.0025 with adaptive, 0 for hierarchical, unless given; quality draft, default "
           "or fine, the presets of --quality: the patch count (unless load() was given patches, max_area or "
           "max_edge; the scene is then cut anew) and display cells, unless given; whole_patches=True for "
-          "--whole-patches, the patch solvers on whole patches rather than their parts open to the scene; "
+          "--whole-patches, whole patches (and elements) rather than their parts open to the scene; "
           "balance=False for --no-balance, the form-factor rows as sampled rather than balanced). "
           "Unset, tolerance is 1e-3 (shooting: the largest relative error of a patch that the light still unshot "
           "would add, as estimated from the convergence; hierarchical: 1e-6, the largest change of an element per "
