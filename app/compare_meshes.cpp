@@ -277,6 +277,7 @@ void MeshComparison::run_hierarchical_one(const char* family, double eps, double
     h.power_epsilon = power_eps;
     h.max_level = m_c.max_level;
     h.refine_rounds = m_c.refine_rounds;
+    h.covered = m_scene.covered;
     h.cancel = &g_interrupted;
     const HierarchicalSolution s = solve_hierarchical(m_mesh.patches(), *m_visibility, h);
     const PatchMesh elements = s.tree.conforming_mesh(s.leaves);

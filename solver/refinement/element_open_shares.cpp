@@ -48,27 +48,23 @@ const ElementOpenness& ElementOpenShares::update(const ElementTree& tree) {
     }
     ElementOpenness& o = m_open;
     o.share.assign(n, 1.0);
-    o.closed.assign(n, 1);
     o.back_share.assign(n, 0.0);
     // Children follow their parent in the node order (ElementTree::split appends them).
     for (std::size_t i = n; i-- > 0;) {
         const auto& node = tree.node(i);
         if (node.leaf()) {
             o.share[i] = m_traced[i].area_share;
-            o.closed[i] = m_traced[i].closed;
             o.back_share[i] = m_traced[i].back_share;
             continue;
         }
         double open = 0.0;
-        bool whole = true, closed = true;
+        bool whole = true;
         for (int c = 0; c < 4; ++c) {
             const auto child = std::size_t(node.first_child + c);
             open += tree.geometry()[child].area * o.share[child];
             whole = whole && o.share[child] == 1.0;
-            closed = closed && o.closed[child];
         }
         o.share[i] = whole ? 1.0 : std::clamp(open / tree.geometry()[i].area, 0.0, 1.0);
-        o.closed[i] = closed;
     }
     o.all_open = std::all_of(o.share.begin(), o.share.end(), [](double s) { return s == 1.0; });
     return o;

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <atomic>
-#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -16,13 +15,12 @@ class Visibility;
 
 /// Per node of an element tree, what open_parts.h finds of a patch: the share of its area open
 /// to the scene (a patch may lie partly under or inside another object, and an element on it
-/// emits and receives over its open part only), whether every ray from the open part met a
-/// patch's front (closed), and of the rays that met none, the share that met a back side.
+/// emits and receives over its open part only) and, of the rays from its open part that met no
+/// patch's front, the share that met a back side.
 struct ElementOpenness {
-    std::vector<double> share;         // a parent: its children's area-weighted mean, exactly 1 where they all are
-    std::vector<std::uint8_t> closed;  // leaves' (a parent's: all its leaves')
-    std::vector<double> back_share;    // leaves'
-    bool all_open = true;              // every share is 1
+    std::vector<double> share;       // a parent: its children's area-weighted mean, exactly 1 where they all are
+    std::vector<double> back_share;  // leaves'
+    bool all_open = true;            // every share is 1
 };
 
 /// Finds and keeps the ElementOpenness of a growing tree: every leaf is traced once, when it

@@ -64,8 +64,8 @@ public:
         // One per node: the refiner gave new ones their parent's.
         std::copy_n(x.B.begin(), std::min(x.B.size(), m_n), m_b.begin());
         for (std::size_t c = 0; c < m_nc && c < x.Bc.size(); ++c) m_b[m_n + c] = x.Bc[c];
-        lay_out(system.links);
         set_open_shares(system.open);
+        lay_out(system.links);
         // Parents before children.
         for (std::uint32_t r = 0; r < m_tree.root_count(); ++r) m_order.push_back(r);
         for (std::size_t k = 0; k < m_order.size(); ++k)
@@ -133,6 +133,9 @@ private:
         return m_G[ref].area * std::max(0.0, x < 3 ? c : -c) * m_send[ref];
     }
     double open_area(std::uint32_t ref) const { return area(ref) * m_send[slot(ref)]; }
+    /// A slot with an open part sends over its links; a buried one (open share 0) only
+    /// receives, what its own links bring through a gap, and keeps it.
+    bool sends(std::size_t s) const { return m_send[s] > 0.0; }
     /// The irradiance slot s takes from its parent `up`: the parent's, on s's open part. What
     /// an element or cluster gathers lands on its open part, so a buried member of an open one
     /// gets none of it.
@@ -174,8 +177,8 @@ void LinkIteration::lay_out(const std::vector<HierarchicalLink>& links) {
     for (const HierarchicalLink& l : links) {
         if (cancelled()) return;
         if (l.fab != 0.0f) {
-            ++m_incoming_first[slot(l.a) + 1];
-            ++m_incoming_first[slot(l.b) + 1];
+            if (sends(slot(l.b))) ++m_incoming_first[slot(l.a) + 1];
+            if (sends(slot(l.a))) ++m_incoming_first[slot(l.b) + 1];
         }
     }
     for (std::size_t r = 0; r < n + nc; ++r) m_incoming_first[r + 1] += m_incoming_first[r];
@@ -186,8 +189,8 @@ void LinkIteration::lay_out(const std::vector<HierarchicalLink>& links) {
         if (l.fab == 0.0f) continue;
         const std::size_t sa = slot(l.a), sb = slot(l.b);
         const bool clustered = m_oriented && (sa >= n || sb >= n);
-        m_incoming[fill[sa]++] = {std::uint32_t(sb), clustered, double(l.fab)};
-        m_incoming[fill[sb]++] = {std::uint32_t(sa), clustered, double(l.fab) * area(l.a) / area(l.b)};
+        if (sends(sb)) m_incoming[fill[sa]++] = {std::uint32_t(sb), clustered, double(l.fab)};
+        if (sends(sa)) m_incoming[fill[sb]++] = {std::uint32_t(sa), clustered, double(l.fab) * area(l.a) / area(l.b)};
     }
 }
 
@@ -496,6 +499,9 @@ void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, Hie
         res.radiosity[k] = B[out.leaves[k]];
         res.irradiance[k] = H[out.leaves[k]];
     }
+    // (Cancelled after a round's refinement split the tree: the last openness is an earlier
+    // tree's, and the leaves count as open.)
+    if (open && open->share.size() != tree.size()) open = nullptr;
     out.open_share = open && !open->all_open ? open->share : std::vector<double>{};
     std::vector<double> leaf_share;
     if (!out.open_share.empty())

@@ -100,7 +100,7 @@ struct HierarchicalSolution {
     double refine_seconds = 0.0;          // building the links (form factors included), all rounds
     std::size_t reused_links = 0;         // links whose form factor an earlier round had computed
     std::vector<HierarchicalLink> links;  // the last round's, element and cluster links, with their factors
-    std::vector<Rgb> node_radiosity;      // B of every tree node (a parent: its children's area-weighted mean)
+    std::vector<Rgb> node_radiosity;      // B of every tree node (a parent: its children's mean over open area)
     /// Per leaf: the irradiance that came over links with a cluster end (directly or pushed down
     /// from an ancestor); the rest came over element links, which a final gather can redo with
     /// the exact point kernel (solver/gather/hierarchical_point_values.h).

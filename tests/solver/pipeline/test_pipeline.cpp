@@ -302,7 +302,12 @@ TEST(SolveScene, AClosedRoomWithBoxesThatTouchAndCrossLosesNoLight) {
         {"type": "box", "material": "grey", "transform": {"scale": [0.5, 0.8, 0.4],
          "rotate": {"axis": [0, 1, 1], "degrees": 50}, "translate": [0.7, 2.2, -0.4]}}]})");
     const Scene scene = load_scene(path.string());
-    // The largest share of the emitted power a channel lets escape (negative: gains).
+    // The escaped share of the emitted power, per channel the largest and the smallest
+    // (negative: light made).
+    struct Escape {
+        double most = -1.0, least = 1.0;
+        double worst() const { return std::max(std::abs(most), std::abs(least)); }
+    };
     const auto loss = [&](SolverKind solver, bool open, bool adaptive = false) {
         SolveRequest r;
         r.solver = solver;
@@ -310,29 +315,31 @@ TEST(SolveScene, AClosedRoomWithBoxesThatTouchAndCrossLosesNoLight) {
         r.adaptive = adaptive;
         r.gather = GatherMode::none;
         const SolveResult res = solve_scene(scene, r).result;
-        double worst = -1.0;
+        Escape x;
         for (int c = 0; c < 3; ++c) {
             const double e = res.emitted_power[c];
             EXPECT_NEAR((res.absorbed_power[c] + res.escaped_power[c] + res.unshot_power[c]) / e, 1.0, 1e-9);
-            worst = std::max(worst, res.escaped_power[c] / e);
+            x.most = std::max(x.most, res.escaped_power[c] / e);
+            x.least = std::min(x.least, res.escaped_power[c] / e);
         }
-        return worst;
+        return x;
     };
-    const double shooting = loss(SolverKind::shooting, true), gathering = loss(SolverKind::gauss_seidel, true),
+    const Escape shooting = loss(SolverKind::shooting, true), gathering = loss(SolverKind::gauss_seidel, true),
                  whole = loss(SolverKind::shooting, false), adaptive = loss(SolverKind::hierarchical, true, true),
                  whole_elements = loss(SolverKind::hierarchical, false, true);
     std::printf(
-        "closed room with boxes: escaped share %.2e (shooting), %.2e (gauss-seidel), %.2e (adaptive); whole "
-        "patches %.2e, whole elements %.2e\n",
-        shooting, gathering, adaptive, whole, whole_elements);
-    EXPECT_LE(std::abs(shooting), 1e-3);
-    EXPECT_LE(std::abs(gathering), 1e-3);
-    // The hierarchy's elements on their open parts lose nothing either. (Its links' rows do
-    // not sum to exactly one where a linked element's radiosity varies across it, which can
-    // make light: the issue tracks that.)
-    EXPECT_LE(adaptive, 1e-3);
-    EXPECT_GT(whole, 1e-3);
-    EXPECT_GT(whole_elements, 1e-3);
+        "closed room with boxes: escaped share %.2e (shooting), %.2e (gauss-seidel), %.2e to %.2e (adaptive); "
+        "whole patches %.2e, whole elements %.2e\n",
+        shooting.worst(), gathering.worst(), adaptive.least, adaptive.most, whole.most, whole_elements.most);
+    EXPECT_LE(shooting.worst(), 1e-3);
+    EXPECT_LE(gathering.worst(), 1e-3);
+    // The hierarchy's elements on their open parts lose nothing either. (A link hands every
+    // leaf under it its end's mean form factor, so where a leaf's radiosity varies over the
+    // linked element the hierarchy can make light: the issue tracks that, and
+    // ElementOpenShares.AFurnaceWithACabinetIsFlatAndKeepsItsLight bounds it in a furnace.)
+    EXPECT_LE(adaptive.most, 1e-3);
+    EXPECT_GT(whole.most, 1e-3);
+    EXPECT_GT(whole_elements.most, 1e-3);
 }
 
 TEST(SolveScene, ABrightClosedBoxWithALampUnderItsCeilingConvergesAndKeepsItsLight) {
