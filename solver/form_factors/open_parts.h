@@ -14,6 +14,11 @@ namespace bounce {
 class FormFactorMatrix;
 class Visibility;
 
+/// The share of a patch's or element's area that receives and holds radiosity in the solve,
+/// given its open share: the open part, or the whole where no part is open (a buried patch:
+/// light that reaches it through a narrow gap is absorbed there, and it sends none).
+inline double receiving_share(double open_share) { return open_share > 0.0 ? open_share : 1.0; }
+
 /// What a patch's open part sees. A patch may lie partly under or inside another object (a
 /// floor under a cabinet with an open underside, a wall pierced by a box): rays to its buried
 /// part are blocked, so the form factors to the patch count only its open part, and rays from
@@ -32,10 +37,9 @@ struct OpenPart {
     bool closed = true;       // every ray from the open part met a patch's front
     double back_share = 0.0;  // of those rays that met no front: the share that met a back side (1 when buried)
 
-    /// The share of the patch's area that receives and holds radiosity in the solve: a_i, or
-    /// the whole patch when no part is open (a buried patch: light that reaches it through a
-    /// narrow gap is absorbed there, and it sends none, shot_scale being 0).
-    double receiving_share() const { return area_share > 0.0 ? area_share : 1.0; }
+    /// The share of the patch's area that receives and holds radiosity in the solve
+    /// (bounce::receiving_share; a buried patch's shot_scale is 0).
+    double receiving_share() const { return bounce::receiving_share(area_share); }
 
     /// The factor patch i's shot is multiplied by, given its row sum sum_j F_ij (patch to
     /// patch, whole areas): a_i / sum for a closed part, so its light all lands (the rows of a

@@ -136,12 +136,11 @@ private:
     /// A slot with an open part sends over its links; a buried one (open share 0) only
     /// receives, what its own links bring through a gap, and keeps it.
     bool sends(std::size_t s) const { return m_send[s] > 0.0; }
-    /// The irradiance slot s takes from its parent `up`: the parent's, on s's open part. What
-    /// an element or cluster gathers lands on its open part, so a buried member of an open one
-    /// gets none of it.
-    Rgb handed_down(std::size_t s, std::size_t up) const {
-        return m_send[s] > 0.0 || m_send[up] <= 0.0 ? m_h[up] : Rgb();
-    }
+    /// Whether slot s takes its parent `up`'s irradiance (and, sending, its links): what an
+    /// element or cluster gathers lands on its open part, so a buried member of an open one
+    /// takes none of it.
+    bool inherits(std::size_t s, std::size_t up) const { return sends(s) || !sends(up); }
+    Rgb handed_down(std::size_t s, std::size_t up) const { return inherits(s, up) ? m_h[up] : Rgb(); }
 
     const std::vector<ClusterTree::Cluster> m_no_clusters;
     // Set: lay_out() and gather() stop at the next link or receiver, and run() before it
@@ -216,13 +215,13 @@ void LinkIteration::set_open_shares(const ElementOpenness* open) {
         }
     }
     m_recv.resize(n + m_nc);
-    for (std::size_t s = 0; s < n + m_nc; ++s) m_recv[s] = m_send[s] > 0.0 ? m_send[s] : 1.0;
+    for (std::size_t s = 0; s < n + m_nc; ++s) m_recv[s] = receiving_share(m_send[s]);
 }
 
 // A leaf's open part sends over the links on its path (its own, its ancestors', its
 // clusters') the sum of their form factors per unit of its open area: its row. What the row
-// leaves out escapes or meets back sides (the energy account splits it by the leaf's
-// OpenPart::back_share). A link hands every leaf under it the mean factor of its end, so a
+// leaves out escapes or meets back sides (the energy account splits it per input patch by its
+// leaves' OpenPart::back_share, back_sides_absorb). A link hands every leaf under it the mean factor of its end, so a
 // single leaf's row strays from its own by the link's error, which sums over the leaves of
 // a linked element cancel. An oriented cluster sends along u the mean of its members turned
 // that way (AxisWeights), which a member's row follows.
@@ -263,8 +262,8 @@ void LinkIteration::set_rows() {
     }
     for (const std::uint32_t i : m_order) {
         const std::size_t up = above(i);
-        if (up != SIZE_MAX && (m_send[i] > 0.0 || m_send[up] <= 0.0)) row[i] += row[up];
-        if (up != SIZE_MAX && up >= n && m_send[i] > 0.0)
+        if (up != SIZE_MAX && inherits(i, up)) row[i] += row[up];
+        if (up != SIZE_MAX && up >= n && sends(i))
             for (int x = 0; x < 6; ++x)
                 row[i] += by_axis[up - n][std::size_t(x)] * axis_area_of(i, x) / (m_G[i].area * m_recv[i]);
         if (m_tree.node(i).leaf()) m_row[i] = row[i];
@@ -400,7 +399,7 @@ void LinkIteration::pull() {
             m_next[i] = m_G[i].emission + m_G[i].reflectance * m_h[i];
         } else {
             // The open parts' mean (a buried node's: the whole's).
-            const bool open = m_send[i] > 0.0;
+            const bool open = sends(i);
             Rgb sum;
             for (int c = 0; c < 4; ++c) {
                 const auto child = std::size_t(node.first_child + c);
@@ -411,7 +410,7 @@ void LinkIteration::pull() {
     }
     for (std::size_t c = m_nc; c-- > 0;) {
         const auto& k = m_C[c];
-        const bool open = m_send[n + c] > 0.0;
+        const bool open = sends(n + c);
         const auto weight = [&](std::uint32_t child) { return open ? open_area(child) : area(child); };
         m_next[n + c] =
             (m_next[slot(k.child[0])] * weight(k.child[0]) + m_next[slot(k.child[1])] * weight(k.child[1])) *

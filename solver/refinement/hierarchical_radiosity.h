@@ -11,6 +11,7 @@
 #include "mesh/meshing/element_tree.h"
 #include "mesh/scene/scene.h"
 #include "solver/form_factors/form_factor_estimator.h"
+#include "solver/form_factors/open_parts.h"
 #include "solver/linear/solve_result.h"
 #include "solver/refinement/cluster_tree.h"
 
@@ -111,9 +112,7 @@ struct HierarchicalSolution {
     std::vector<double> open_share;
     /// The share of node i's area that receives: its open share, or the whole node where none
     /// is open (or none is known: nodes display refinement added).
-    double receiving_share(std::size_t i) const {
-        return i < open_share.size() && open_share[i] > 0.0 ? open_share[i] : 1.0;
-    }
+    double receiving_share(std::size_t i) const { return bounce::receiving_share(sending_share(i)); }
     /// The share that sends: its open share (1 where none is known).
     double sending_share(std::size_t i) const { return i < open_share.size() ? open_share[i] : 1.0; }
     /// The refinement's power epsilon. Above 0, links were also accepted because the power
