@@ -117,6 +117,15 @@ double RaycastFormFactor::traced_fraction(std::size_t i, std::size_t j, int ray_
     // falsely blocked by rounding at a wall the rays start beside. (The full candidate search
     // costs more than the rays it saves in cluttered scenes; the plane test alone is cheap.)
     if (m_culler && m_culler->clear(lo, hi)) return 1.0;
+    thread_local std::vector<Visibility::Segment> rays;
+    thread_local std::vector<double> weight;
+    stratified_rays(lo, hi, ray_count, salt, rays, weight, nullptr);
+    return weighted_open_fraction(*m_visibility, rays, weight);
+}
+
+void RaycastFormFactor::stratified_rays(std::size_t lo, std::size_t hi, int ray_count, std::uint64_t salt,
+                                        std::vector<Visibility::Segment>& rays, std::vector<double>& weight,
+                                        std::vector<std::pair<glm::dvec3, glm::dvec3>>* ends) const {
     const Patch& a = m_patches[lo];
     const Patch& b = m_patches[hi];
     const int m = ray_count;
@@ -129,11 +138,10 @@ double RaycastFormFactor::traced_fraction(std::size_t i, std::size_t j, int ray_
     perm.resize(std::size_t(m));
     std::iota(perm.begin(), perm.end(), 0);
     for (int k = m - 1; k > 0; --k) std::swap(perm[k], perm[rng.next() % std::uint64_t(k + 1)]);
-    const double eps = m_visibility->offset();
-    thread_local std::vector<Visibility::Segment> rays;
-    thread_local std::vector<double> weight;
+    const double eps = m_visibility ? m_visibility->offset() : 0.0;
     rays.clear();
     weight.clear();
+    if (ends) ends->clear();
     for (int r = 0; r < m; ++r) {
         const int cb = perm[r];
         const glm::dvec3 pa = patch_point(a, (r % sx + rng.uniform()) / sx, (r / sx + rng.uniform()) / sy);
@@ -142,8 +150,25 @@ double RaycastFormFactor::traced_fraction(std::size_t i, std::size_t j, int ray_
         if (a.height(pb) <= eps || b.height(pa) <= eps) continue;
         rays.push_back({pa + eps * a.normal, pb + eps * b.normal});
         weight.push_back(pair_kernel(a.normal, pa, b.normal, pb));
+        if (ends) ends->push_back({pa, pb});
     }
-    return weighted_open_fraction(*m_visibility, rays, weight);
+}
+
+void RaycastFormFactor::pair_rays(std::size_t i, std::size_t j, int ray_count, std::vector<PairRay>& out) const {
+    const std::size_t lo = std::min(i, j), hi = std::max(i, j);
+    thread_local std::vector<Visibility::Segment> rays;
+    thread_local std::vector<double> weight;
+    thread_local std::vector<std::pair<glm::dvec3, glm::dvec3>> ends;
+    thread_local std::vector<std::uint8_t> blocked;
+    stratified_rays(lo, hi, ray_count, 0, rays, weight, &ends);
+    blocked.assign(rays.size(), 0);
+    if (m_visibility && !rays.empty()) m_visibility->occluded(rays, blocked);
+    out.clear();
+    for (std::size_t k = 0; k < rays.size(); ++k) {
+        const bool swap = i != lo;
+        out.push_back(
+            {swap ? ends[k].second : ends[k].first, swap ? ends[k].first : ends[k].second, weight[k], !blocked[k]});
+    }
 }
 
 double RaycastFormFactor::point_factor(const glm::dvec3& x, const glm::dvec3& n, std::size_t j,

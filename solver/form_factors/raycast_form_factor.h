@@ -3,11 +3,13 @@
 
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "solver/form_factors/unoccluded_form_factor.h"
 
 #include "solver/form_factors/form_factor_estimator.h"
+#include "solver/visibility/visibility.h"
 
 namespace bounce {
 
@@ -49,6 +51,17 @@ public:
     double visible_fraction(std::size_t i, std::size_t j) const;
     /// The same with `ray_count` rays (stratified alike) instead of the options' count.
     double visible_fraction(std::size_t i, std::size_t j, int ray_count) const;
+    /// One of a pair's rays: its ends on i and on j (on the patches, not lifted off them), its
+    /// kernel weight and whether it arrived.
+    struct PairRay {
+        glm::dvec3 on_i, on_j;
+        double weight = 0.0;
+        bool open = false;
+    };
+    /// The rays visible_fraction(i, j, ray_count) would trace without its pilot (the same
+    /// strata and stream), each with its fate: where on each patch a partly visible pair
+    /// sees the other. Rays from behind either patch are left out, as there.
+    void pair_rays(std::size_t i, std::size_t j, int ray_count, std::vector<PairRay>& out) const;
     /// F(dA at x with normal n -> patch j): the exact kernel times the fraction of stratified
     /// rays from x to j that arrive; `stream` seeds the rays (the same stream, the same rays).
     /// Radiosity at a point, B(x) = E + rho sum_j F(x -> j) B_j, is what adaptive
@@ -62,6 +75,11 @@ private:
     /// The kernel-weighted share of `ray_count` stratified rays that arrive; `salt` picks an
     /// independent set of rays for the same pair.
     double traced_fraction(std::size_t i, std::size_t j, int ray_count, std::uint64_t salt) const;
+    /// The stratified rays of the pair lo < hi (traced_fraction's), lifted off the patches, with
+    /// their kernel weights; `ends`, if given, gets each ray's unlifted ends.
+    void stratified_rays(std::size_t lo, std::size_t hi, int ray_count, std::uint64_t salt,
+                         std::vector<Visibility::Segment>& rays, std::vector<double>& weight,
+                         std::vector<std::pair<glm::dvec3, glm::dvec3>>* ends) const;
 
     /// F_ij: with receiver_samples 0, the unoccluded factor to unoccluded_tolerance times the
     /// visible fraction; otherwise n x n receiver points on j (the exact kernel covers i).

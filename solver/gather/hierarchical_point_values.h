@@ -23,12 +23,13 @@ namespace bounce {
 /// Jacobi steps of the re-gather at the leaves' centres that a solution refined with a power
 /// epsilon takes before its vertices gather (each step gathers every leaf's centre through its
 /// links from the last step's radiosity, then sets every parent to its children's area-weighted
-/// mean). Where many links, each accepted for its small power, hand a coarse element the
-/// irradiance of sources most of its leaves see only in part (a face in the acute wedge where
-/// one box crosses another), the first step gives each leaf its own view of its sources but
-/// gathers from neighbours that still hold the links' excess; the second takes their corrected
-/// values. Why two and not three: docs/measurements/2026-12-06-far-leg-and-wedges.md.
-inline constexpr int kRegatherSteps = 2;
+/// mean): a link accepted for its small power hands all of a coarse element one irradiance,
+/// and the step gives each leaf its own view of its sources. One step: since the links' ends
+/// send and take by where they see each other (HierarchicalOptions::weighted_ends), the leaves
+/// no longer hold the links' excess that a second step took out of the neighbours
+/// (docs/measurements/2026-12-07-weighted-ends.md), and a second step moved the point data
+/// away from the path tracer.
+inline constexpr int kRegatherSteps = 1;
 
 /// The point-source pairs gathering through the links costs: for every vertex of `elements`,
 /// the element links along its leaf's path to the root; with a power epsilon, the same for

@@ -48,7 +48,10 @@ struct AxisWeights {
 class LinkIteration {
 public:
     LinkIteration(const LinkSystem& system, const HierarchyRadiosity& x)
-        : m_cancel(system.options.cancel),
+        : m_seen(system.seen && !system.seen->empty() && system.seen->first.size() == system.links.size() + 1
+                     ? system.seen
+                     : nullptr),
+          m_cancel(system.options.cancel),
           m_tree(system.tree),
           m_G(system.tree.geometry()),
           m_clusters(system.clusters),
@@ -66,6 +69,7 @@ public:
         for (std::size_t c = 0; c < m_nc && c < x.Bc.size(); ++c) m_b[m_n + c] = x.Bc[c];
         set_open_shares(system.open);
         lay_out(system.links);
+        if (m_seen) m_delivered.resize(m_incoming.size());
         // Parents before children.
         for (std::uint32_t r = 0; r < m_tree.root_count(); ++r) m_order.push_back(r);
         for (std::size_t k = 0; k < m_order.size(); ++k)
@@ -104,7 +108,20 @@ private:
         std::uint32_t src;
         bool clustered;  // a cluster at either end (oriented clusters need the link's direction)
         double F;
+        // The source's nodes that see this end (SeenEnds entries [seen_first, seen_last)),
+        // whose weighted mean it sends instead of its own; empty: its mean.
+        std::uint32_t seen_first = 0, seen_last = 0;
+        // The receiver's nodes that see the source (SeenEnds entries [to_first, to_last)), among
+        // which what it gathers is shared by their weights; empty: the receiver takes it all.
+        std::uint32_t to_first = 0, to_last = 0;
     };
+    /// What the source of `in` sends along it: its seen nodes' weighted mean, or its own.
+    Rgb sent(const Incoming& in) const {
+        if (in.seen_first == in.seen_last) return m_b[in.src];
+        Rgb sum;
+        for (std::uint32_t e = in.seen_first; e < in.seen_last; ++e) sum += m_b[m_seen->node[e]] * m_seen->weight[e];
+        return sum;
+    }
     void lay_out(const std::vector<HierarchicalLink>& links);
     /// Every slot's sending and receiving share and every cluster's open axis areas.
     void set_open_shares(const ElementOpenness* open);
@@ -143,6 +160,7 @@ private:
     Rgb handed_down(std::size_t s, std::size_t up) const { return inherits(s, up) ? m_h[up] : Rgb(); }
 
     const std::vector<ClusterTree::Cluster> m_no_clusters;
+    const SeenEnds* m_seen;  // null: every link sends its source's mean
     // Set: lay_out() and gather() stop at the next link or receiver, and run() before it
     // applies a partial gather.
     const std::atomic<bool>* m_cancel;
@@ -158,6 +176,7 @@ private:
     std::vector<double> m_send, m_recv;
     std::vector<std::array<double, 6>> m_open_axis;  // per cluster: its members' open axis areas
     std::vector<Rgb> m_gathered, m_next;
+    std::vector<Rgb> m_delivered;  // per incoming entry shared among seen nodes: F times what it sent
     // Per element node: a leaf's row, the share of what its open part sends that its links
     // carry to patches (set_rows).
     std::vector<double> m_row;
@@ -183,13 +202,23 @@ void LinkIteration::lay_out(const std::vector<HierarchicalLink>& links) {
     for (std::size_t r = 0; r < n + nc; ++r) m_incoming_first[r + 1] += m_incoming_first[r];
     m_incoming.resize(m_incoming_first[n + nc]);
     std::vector<std::size_t> fill(m_incoming_first.begin(), m_incoming_first.end() - 1);
-    for (const HierarchicalLink& l : links) {
+    for (std::size_t k = 0; k < links.size(); ++k) {
+        const HierarchicalLink& l = links[k];
         if (cancelled()) return;
         if (l.fab == 0.0f) continue;
         const std::size_t sa = slot(l.a), sb = slot(l.b);
         const bool clustered = m_oriented && (sa >= n || sb >= n);
-        if (sends(sb)) m_incoming[fill[sa]++] = {std::uint32_t(sb), clustered, double(l.fab)};
-        if (sends(sa)) m_incoming[fill[sb]++] = {std::uint32_t(sa), clustered, double(l.fab) * area(l.a) / area(l.b)};
+        // a gathers what b's seen nodes send and shares it among its own, and b the same.
+        std::uint32_t a0 = 0, a1 = 0, b0 = 0, b1 = 0;
+        if (m_seen) {
+            a0 = m_seen->first[k];
+            a1 = b0 = m_seen->middle[k];
+            b1 = m_seen->first[k + 1];
+        }
+        if (sends(sb)) m_incoming[fill[sa]++] = {std::uint32_t(sb), clustered, double(l.fab), b0, b1, a0, a1};
+        if (sends(sa))
+            m_incoming[fill[sb]++] = {
+                std::uint32_t(sa), clustered, double(l.fab) * area(l.a) / area(l.b), a0, a1, b0, b1};
     }
 }
 
@@ -254,6 +283,24 @@ void LinkIteration::set_rows() {
         }
         row[r] = sum / m_recv[r];
     }
+    // A link whose receiver gathers what the source's seen nodes send (Incoming::seen_first)
+    // takes that power from those nodes, not from the source's open area alike.
+    std::vector<double> seen_row(m_seen ? n : 0, 0.0);
+    if (m_seen)
+        for (std::size_t q = 0; q < n; ++q) {
+            if (!sends(q)) continue;  // (the source's row holds no link to a buried receiver)
+            for (std::size_t e = m_incoming_first[q]; e < m_incoming_first[q + 1]; ++e) {
+                const Incoming& in = m_incoming[e];
+                if (in.seen_first == in.seen_last) continue;
+                const double power = m_G[q].area * in.F;  // per unit of the source's B
+                row[in.src] -= power / (m_G[in.src].area * m_recv[in.src]);
+                for (std::uint32_t k = in.seen_first; k < in.seen_last; ++k) {
+                    const std::uint32_t m = m_seen->node[k];
+                    seen_row[m] += power * m_seen->weight[k] / (m_G[m].area * m_recv[m]);
+                }
+            }
+        }
+    for (std::size_t i = 0; i < seen_row.size(); ++i) row[i] += seen_row[i];
     for (std::size_t c = 0; c < m_nc; ++c) {  // parents before children
         const auto parent = m_C[c].parent;
         if (parent < 0) continue;
@@ -321,7 +368,10 @@ void LinkIteration::gather() {
                 const double F = m_incoming[e].F;
                 // Only a link with a cluster end needs its direction: element pairs skip the root.
                 if (!m_incoming[e].clustered) {
-                    sum += m_b[src] * F;
+                    if (m_incoming[e].to_first < m_incoming[e].to_last)
+                        m_delivered[e] = sent(m_incoming[e]) * F;
+                    else
+                        sum += sent(m_incoming[e]) * F;
                     continue;
                 }
                 const glm::dvec3 v = centre_of(src) - centre_of(r);  // r towards src
@@ -343,6 +393,16 @@ void LinkIteration::gather() {
             m_gathered[r] = sum;
         }
     });
+    // What the receivers' seen nodes take of it (Incoming::to_first), per unit of their area.
+    if (m_seen)
+        for (std::size_t r = 0; r < n; ++r)
+            for (std::size_t e = m_incoming_first[r]; e < m_incoming_first[r + 1]; ++e) {
+                const Incoming& in = m_incoming[e];
+                for (std::uint32_t k = in.to_first; k < in.to_last; ++k) {
+                    const std::uint32_t m = m_seen->node[k];
+                    m_gathered[m] += m_delivered[e] * (m_seen->weight[k] * m_G[r].area / m_G[m].area);
+                }
+            }
 }
 
 // Isotropic clusters hand every member the same irradiance; oriented ones hand the power that
@@ -485,7 +545,8 @@ void back_sides_absorb(const ElementTree& tree, const HierarchyRadiosity& x, con
 
 }  // namespace
 
-void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, HierarchicalSolution& out) {
+void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, const SeenEnds* seen,
+                   HierarchicalSolution& out) {
     const ElementTree& tree = out.tree;
     const std::vector<Rgb>& B = x.B;
     const std::vector<Rgb>& H = x.H;
@@ -501,6 +562,7 @@ void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, Hie
     // (Cancelled after a round's refinement split the tree: the last openness is an earlier
     // tree's, and the leaves count as open.)
     if (open && open->share.size() != tree.size()) open = nullptr;
+    if (seen && (seen->empty() || seen->first.size() != out.links.size() + 1)) seen = nullptr;  // (another round's)
     out.open_share = open && !open->all_open ? open->share : std::vector<double>{};
     std::vector<double> leaf_share;
     if (!out.open_share.empty())
@@ -518,8 +580,25 @@ void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, Hie
     for (std::size_t k = 0; k < gathered_links; ++k) {
         const HierarchicalLink& l = out.links[k];
         if (!l.between_elements()) continue;
-        by_elements[l.a] += B[l.b] * (double(l.fab) / out.receiving_share(l.a));
-        by_elements[l.b] += B[l.a] * (double(l.fab) * G[l.a].area / G[l.b].area / out.receiving_share(l.b));
+        // What each end sent along the link, and where the other end took it
+        // (LinkIteration::sent and gather()), per unit of open area.
+        if (seen && seen->first[k] < seen->first[k + 1]) {
+            Rgb from_a, from_b;
+            for (std::uint32_t e = seen->first[k]; e < seen->middle[k]; ++e)
+                from_a += B[seen->node[e]] * seen->weight[e];
+            for (std::uint32_t e = seen->middle[k]; e < seen->first[k + 1]; ++e)
+                from_b += B[seen->node[e]] * seen->weight[e];
+            const double power = double(l.fab) * G[l.a].area;  // per unit B, either way round
+            for (std::uint32_t e = seen->first[k]; e < seen->first[k + 1]; ++e) {
+                const std::uint32_t m = seen->node[e];
+                by_elements[m] += (e < seen->middle[k] ? from_b : from_a) *
+                                  (power * seen->weight[e] / (G[m].area * out.receiving_share(m)));
+            }
+            continue;
+        }
+        const Rgb from_a = B[l.a], from_b = B[l.b];
+        by_elements[l.a] += from_b * (double(l.fab) / out.receiving_share(l.a));
+        by_elements[l.b] += from_a * (double(l.fab) * G[l.a].area / G[l.b].area / out.receiving_share(l.b));
     }
     for (std::size_t i = 0; i < tree.size(); ++i) {
         const std::int64_t up = tree.node(i).parent;

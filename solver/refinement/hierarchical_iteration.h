@@ -9,6 +9,7 @@
 #include "solver/refinement/cluster_tree.h"
 #include "solver/refinement/element_open_shares.h"
 #include "solver/refinement/hierarchical_radiosity.h"
+#include "solver/refinement/seen_ends.h"
 
 namespace bounce::hierarchical {
 
@@ -23,6 +24,10 @@ struct LinkSystem {
     /// lands on its open part (on the whole node where none is open: it sends nothing), a
     /// parent or cluster takes its members' mean weighted by their open areas.
     const ElementOpenness* open = nullptr;
+    /// Where each link's ends see each other (seen_ends.h): an end sends the weighted mean of
+    /// its nodes listed there and what it gathers lands on them by the same weights; null or
+    /// empty: every link sends its ends' means and hands each end's nodes alike.
+    const SeenEnds* seen = nullptr;
 };
 
 /// Radiosity B and irradiance H in W/m^2 per element node of the tree (on its open part,
@@ -45,7 +50,9 @@ void solve_links(const LinkSystem& system, double tolerance, const std::string& 
 
 /// The leaves' radiosity and irradiance, and the energy account, into out.result; every
 /// node's radiosity and the leaves' irradiance from cluster links into out (out.links and
-/// out.tree hold the solved hierarchy; `open` the nodes' open parts, or null).
-void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, HierarchicalSolution& out);
+/// out.tree hold the solved hierarchy; `open` the nodes' open parts, or null; `seen` what the
+/// links' ends saw of each other, as solved, or null).
+void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, const SeenEnds* seen,
+                   HierarchicalSolution& out);
 
 }  // namespace bounce::hierarchical

@@ -18,6 +18,7 @@
 #include "solver/refinement/element_open_shares.h"
 #include "solver/refinement/hierarchical_iteration.h"
 #include "solver/refinement/link_refiner.h"
+#include "solver/refinement/seen_ends.h"
 #include "solver/visibility/shaft_culler.h"
 #include "solver/visibility/visibility.h"
 
@@ -204,6 +205,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
     SeenVisibility seen;  // partial visibility's ray shares, kept across rounds
     std::optional<ElementOpenShares> open;
     const ElementOpenness* openness = nullptr;  // the last round's
+    SeenEnds ends;                              // the last round's
     if (options.open_parts) open.emplace(patches, visibility, options.covered, options.cancel);
     for (int round = 0; round < options.refine_rounds; ++round) {
         const double round_start = since_start();
@@ -226,12 +228,13 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         const bool last = round + 1 == options.refine_rounds;
         const double tolerance = last ? options.tolerance : std::max(options.tolerance, 1e-3);
         openness = open ? &open->update(tree) : nullptr;
-        solve_links({tree, rounds.clusters, links, options, openness}, tolerance, stage, x, res);
+        ends = options.weighted_ends ? seen_ends(tree, links, ff, kPartialVisibilityRays, openness) : SeenEnds{};
+        solve_links({tree, rounds.clusters, links, options, openness, &ends}, tolerance, stage, x, res);
         if (res.status == SolveStatus::interrupted) break;
     }
     for (const Link& l : links) out.cluster_links += !l.between_elements();
     out.links = std::move(links);
-    finish_result(x, openness, out);
+    finish_result(x, openness, &ends, out);
     res.seconds = since_start();
     return out;
 }

@@ -53,7 +53,14 @@ struct HierarchicalOptions {
     /// lost where patches lie under or inside other objects.
     bool open_parts = true;
     std::span<const CoveredRegion> covered;  // the regions the cuts left out (Scene::covered), for open_parts
-    double tolerance = 1e-6;                 // stop when no element's radiosity changes by more than this, relatively
+    /// A link's ends send and take by where they see each other (seen_ends.h): an end's nodes
+    /// two levels down by their factor to the other end, or a partly visible link's leaves by
+    /// its rays, instead of the end's mean over all of it. Light then no longer runs down a
+    /// gradient faster than it should (a coarse element's bright side is farther from what
+    /// lies beyond its dark side), which in a corridor lit from one end compounds over every
+    /// bounce.
+    bool weighted_ends = true;
+    double tolerance = 1e-6;  // stop when no element's radiosity changes by more than this, relatively
     std::size_t max_iterations = 1000;
     FormFactorOptions form_factors;
     const std::atomic<bool>* cancel = nullptr;
