@@ -170,14 +170,25 @@ LinkSources link_sources(const HierarchicalSolution& sol, const NodeLinks& links
     return out;
 }
 
-/// GatherSources::descend for the vertices: a vertex goes down from a linked source to its
-/// children where their spread, times the kernel's variation over the source (r / d), passes a
-/// tenth of what the source brings. On the Cornell box (`bounce compare --meshes`, 0.1% probes)
-/// it took the point data at power epsilon 3e-5 / 1e-5 from 1.71% / 1.24% to 1.26% / 0.91% for
-/// about a tenth more time; at 1e-6 and without the power bound it changed nothing. By the
-/// probe script of the notes, 0.3 gave 1.67% / 1.09% and 0.05 1.33% / 0.99% (0.1: 1.36%
-/// / 1.02%) for a quarter more time. The leaves' centres gained nothing from it.
-constexpr double kDescendShare = 0.1;
+/// GatherSources::descend for the vertices and the leaves' centres: a point goes down from a
+/// linked source to its children where their spread, times the kernel's variation over the
+/// source (r / d), passes this share of what the source brings. A source's mean misplaces its
+/// light by how its radiosity and the point's kernel vary together over it (the link's own
+/// excess, seen_ends.h); in the corridor lit from one end it compounds down the gradient, and
+/// the centres, which the vertices gather from, carry it on
+/// (docs/measurements/2026-12-07-weighted-ends.md#the-gathers-descent).
+constexpr double kDescendShare = 0.03;
+
+/// The descent arrays of a gather (GatherSources::descend) for the tree as it is.
+void set_descent(const ElementTree& tree, std::span<const Rgb> radiosity, std::vector<std::int32_t>& first_child,
+                 std::vector<double>& spread, GatherSources& at) {
+    first_child.resize(tree.size());
+    for (std::size_t i = 0; i < first_child.size(); ++i) first_child[i] = tree.node(i).first_child;
+    spread = tree.leaf_luminance_spread(radiosity);
+    at.first_child = first_child;
+    at.spread = spread;
+    at.descend = kDescendShare;
+}
 
 /// Every leaf's value gathered at its centre through its own links (the leaf's row, chained to
 /// its ancestors', LinkSources::on) from `radiosity` per node (empty: the solution's): mode
@@ -188,8 +199,12 @@ std::vector<Rgb> centre_values(const HierarchicalSolution& sol, const PatchMesh&
                                const std::function<void(std::size_t, std::size_t)>& progress,
                                std::span<const Rgb> radiosity = {}) {
     // A centre gathers through its own element (the elements are the leaves, in order).
-    return final_gather(sol.tree.geometry(), radiosity.empty() ? std::span<const Rgb>(sol.node_radiosity) : radiosity,
-                        visibility, centre_gather_points(elements.patches()), sources.on(sol.leaves, links), options,
+    const std::span<const Rgb> B = radiosity.empty() ? std::span<const Rgb>(sol.node_radiosity) : radiosity;
+    GatherSources at = sources.on(sol.leaves, links);
+    std::vector<std::int32_t> first_child;
+    std::vector<double> spread;
+    set_descent(sol.tree, B, first_child, spread, at);
+    return final_gather(sol.tree.geometry(), B, visibility, centre_gather_points(elements.patches()), at, options,
                         cancel, progress);
 }
 
@@ -288,17 +303,6 @@ struct VertexStage {
     LinkSources& sources;
     std::vector<Rgb>& radiosity;  // per node
 };
-
-/// The descent arrays of the vertex stage (GatherSources::descend) for the tree as it is.
-void set_descent(const ElementTree& tree, std::span<const Rgb> radiosity, std::vector<std::int32_t>& first_child,
-                 std::vector<double>& spread, GatherSources& at) {
-    first_child.resize(tree.size());
-    for (std::size_t i = 0; i < first_child.size(); ++i) first_child[i] = tree.node(i).first_child;
-    spread = tree.leaf_luminance_spread(radiosity);
-    at.first_child = first_child;
-    at.spread = spread;
-    at.descend = kDescendShare;
-}
 
 /// Per element, an estimate of what linear interpolation between its vertices misses at its
 /// centre: the centre values (one per element, all of one Jacobi stage) of the elements that

@@ -69,7 +69,16 @@ public:
         for (std::size_t c = 0; c < m_nc && c < x.Bc.size(); ++c) m_b[m_n + c] = x.Bc[c];
         set_open_shares(system.open);
         lay_out(system.links);
-        if (m_seen) m_delivered.resize(m_incoming.size());
+        if (m_seen) {
+            m_delivered.resize(m_incoming.size());
+            // Element nodes by root: what a receiver shares lands on nodes of its own root.
+            m_root_first.assign(m_tree.root_count() + 1, 0);
+            for (std::size_t i = 0; i < m_n; ++i) ++m_root_first[m_tree.node(i).root + 1];
+            for (std::size_t r = 0; r < m_tree.root_count(); ++r) m_root_first[r + 1] += m_root_first[r];
+            m_by_root.resize(m_n);
+            std::vector<std::size_t> fill(m_root_first.begin(), m_root_first.end() - 1);
+            for (std::size_t i = 0; i < m_n; ++i) m_by_root[fill[m_tree.node(i).root]++] = std::uint32_t(i);
+        }
         // Parents before children.
         for (std::uint32_t r = 0; r < m_tree.root_count(); ++r) m_order.push_back(r);
         for (std::size_t k = 0; k < m_order.size(); ++k)
@@ -119,7 +128,8 @@ private:
     Rgb sent(const Incoming& in) const {
         if (in.seen_first == in.seen_last) return m_b[in.src];
         Rgb sum;
-        for (std::uint32_t e = in.seen_first; e < in.seen_last; ++e) sum += m_b[m_seen->node[e]] * m_seen->weight[e];
+        for (std::uint32_t e = in.seen_first; e < in.seen_last; ++e)
+            sum += m_b[m_seen->node[e]] * double(m_seen->weight[e]);
         return sum;
     }
     void lay_out(const std::vector<HierarchicalLink>& links);
@@ -176,7 +186,9 @@ private:
     std::vector<double> m_send, m_recv;
     std::vector<std::array<double, 6>> m_open_axis;  // per cluster: its members' open axis areas
     std::vector<Rgb> m_gathered, m_next;
-    std::vector<Rgb> m_delivered;  // per incoming entry shared among seen nodes: F times what it sent
+    std::vector<Rgb> m_delivered;           // per incoming entry shared among seen nodes: F times what it sent
+    std::vector<std::size_t> m_root_first;  // with weighted ends: m_by_root's range per root
+    std::vector<std::uint32_t> m_by_root;   // element nodes grouped by root
     // Per element node: a leaf's row, the share of what its open part sends that its links
     // carry to patches (set_rows).
     std::vector<double> m_row;
@@ -296,7 +308,7 @@ void LinkIteration::set_rows() {
                 row[in.src] -= power / (m_G[in.src].area * m_recv[in.src]);
                 for (std::uint32_t k = in.seen_first; k < in.seen_last; ++k) {
                     const std::uint32_t m = m_seen->node[k];
-                    seen_row[m] += power * m_seen->weight[k] / (m_G[m].area * m_recv[m]);
+                    seen_row[m] += power * double(m_seen->weight[k]) / (m_G[m].area * m_recv[m]);
                 }
             }
         }
@@ -393,16 +405,20 @@ void LinkIteration::gather() {
             m_gathered[r] = sum;
         }
     });
-    // What the receivers' seen nodes take of it (Incoming::to_first), per unit of their area.
-    if (m_seen)
-        for (std::size_t r = 0; r < n; ++r)
-            for (std::size_t e = m_incoming_first[r]; e < m_incoming_first[r + 1]; ++e) {
-                const Incoming& in = m_incoming[e];
-                for (std::uint32_t k = in.to_first; k < in.to_last; ++k) {
-                    const std::uint32_t m = m_seen->node[k];
-                    m_gathered[m] += m_delivered[e] * (m_seen->weight[k] * m_G[r].area / m_G[m].area);
+    // What the receivers' seen nodes take of it (Incoming::to_first), per unit of their area;
+    // in parallel over the roots, whose nodes no other root's receivers reach.
+    if (!m_seen || cancelled()) return;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m_tree.root_count(), 16), [&](const auto& roots) {
+        for (std::size_t root = roots.begin(); root != roots.end(); ++root)
+            for (std::size_t at = m_root_first[root]; at < m_root_first[root + 1]; ++at) {
+                const std::size_t r = m_by_root[at];
+                for (std::size_t e = m_incoming_first[r]; e < m_incoming_first[r + 1]; ++e) {
+                    const Incoming& in = m_incoming[e];
+                    for (std::uint32_t k = in.to_first; k < in.to_last; ++k)
+                        m_gathered[m_seen->node[k]] += m_delivered[e] * double(m_seen->take[k]);
                 }
             }
+    });
 }
 
 // Isotropic clusters hand every member the same irradiance; oriented ones hand the power that
@@ -581,24 +597,28 @@ void finish_result(const HierarchyRadiosity& x, const ElementOpenness* open, con
         const HierarchicalLink& l = out.links[k];
         if (!l.between_elements()) continue;
         // What each end sent along the link, and where the other end took it
-        // (LinkIteration::sent and gather()), per unit of open area.
-        if (seen && seen->first[k] < seen->first[k + 1]) {
-            Rgb from_a, from_b;
-            for (std::uint32_t e = seen->first[k]; e < seen->middle[k]; ++e)
-                from_a += B[seen->node[e]] * seen->weight[e];
-            for (std::uint32_t e = seen->middle[k]; e < seen->first[k + 1]; ++e)
-                from_b += B[seen->node[e]] * seen->weight[e];
-            const double power = double(l.fab) * G[l.a].area;  // per unit B, either way round
-            for (std::uint32_t e = seen->first[k]; e < seen->first[k + 1]; ++e) {
-                const std::uint32_t m = seen->node[e];
-                by_elements[m] += (e < seen->middle[k] ? from_b : from_a) *
-                                  (power * seen->weight[e] / (G[m].area * out.receiving_share(m)));
+        // (LinkIteration::sent and gather()), per unit of open area: an end with a list of
+        // nodes sends their weighted mean and shares what it takes among them.
+        const std::uint32_t a0 = seen ? seen->first[k] : 0, a1 = seen ? seen->middle[k] : 0;
+        const std::uint32_t b1 = seen ? seen->first[k + 1] : 0;
+        Rgb from_a = B[l.a], from_b = B[l.b];
+        if (a0 < a1) from_a = Rgb();
+        for (std::uint32_t e = a0; e < a1; ++e) from_a += B[seen->node[e]] * double(seen->weight[e]);
+        if (a1 < b1) from_b = Rgb();
+        for (std::uint32_t e = a1; e < b1; ++e) from_b += B[seen->node[e]] * double(seen->weight[e]);
+        const double power = double(l.fab) * G[l.a].area;  // per unit B, either way round
+        const auto take = [&](std::uint32_t end, std::uint32_t first, std::uint32_t last, const Rgb& from) {
+            if (first == last) {
+                by_elements[end] += from * (power / (G[end].area * out.receiving_share(end)));
+                return;
             }
-            continue;
-        }
-        const Rgb from_a = B[l.a], from_b = B[l.b];
-        by_elements[l.a] += from_b * (double(l.fab) / out.receiving_share(l.a));
-        by_elements[l.b] += from_a * (double(l.fab) * G[l.a].area / G[l.b].area / out.receiving_share(l.b));
+            for (std::uint32_t e = first; e < last; ++e) {
+                const std::uint32_t m = seen->node[e];
+                by_elements[m] += from * (power * double(seen->weight[e]) / (G[m].area * out.receiving_share(m)));
+            }
+        };
+        take(l.a, a0, a1, from_b);
+        take(l.b, a1, b1, from_a);
     }
     for (std::size_t i = 0; i < tree.size(); ++i) {
         const std::int64_t up = tree.node(i).parent;

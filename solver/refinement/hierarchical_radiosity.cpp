@@ -228,7 +228,9 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         const bool last = round + 1 == options.refine_rounds;
         const double tolerance = last ? options.tolerance : std::max(options.tolerance, 1e-3);
         openness = open ? &open->update(tree) : nullptr;
-        ends = options.weighted_ends ? seen_ends(tree, links, ff, kPartialVisibilityRays, openness) : SeenEnds{};
+        ends = options.weighted_ends && links.size() <= kWeightedEndsMaxLinks
+                   ? seen_ends(tree, links, ff, kPartialVisibilityRays, openness)
+                   : SeenEnds{};
         solve_links({tree, rounds.clusters, links, options, openness, &ends}, tolerance, stage, x, res);
         if (res.status == SolveStatus::interrupted) break;
     }

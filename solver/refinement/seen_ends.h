@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -26,14 +27,25 @@ namespace hierarchical {
 /// the link's rank-one estimate of sum_m F(l -> m) over the ends' nodes l and m.
 struct SeenEnds {
     /// Per link: its entries are [first[k], first[k + 1]) of node and weight, a's end's list
-    /// then b's, split at middle[k]. Empty where either end is a cluster, both are leaves or
-    /// nothing of one end faces the other (no ray arrived): each end then sends its mean.
+    /// then b's, split at middle[k]. An end's list is empty where it is a leaf or a cluster,
+    /// where its weights would be about its nodes' shares of its area (kernel_entries), or
+    /// where no ray arrived: the end then sends its mean and takes alike.
     std::vector<std::uint32_t> first, middle;
     std::vector<std::uint32_t> node;
-    std::vector<double> weight;
+    std::vector<float> weight;
+    /// Per entry, weight times the end's area over the node's: what the node takes per unit of
+    /// its area of what its end gathers per unit of the end's.
+    std::vector<float> take;
 
     bool empty() const { return node.empty(); }
 };
+
+/// The most links a solve weighs its ends for (HierarchicalOptions::weighted_ends). An end's
+/// list holds up to 16 entries of 12 bytes, and the iteration reads them every sweep, against
+/// about 120 bytes a link otherwise: in an office of thousands of patches the lists would
+/// nearly double the solve's memory (docs/measurements/2026-12-07-weighted-ends.md). Above
+/// this the ends send their means.
+inline constexpr std::size_t kWeightedEndsMaxLinks = 8'000'000;
 
 /// SeenEnds of `links` over `tree` as it stands (`open`: its nodes' open parts, or null), with
 /// `rays` of the pair's own stratified rays (RaycastFormFactor::pair_rays) per partly visible
