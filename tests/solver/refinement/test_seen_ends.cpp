@@ -14,7 +14,10 @@
 
 #include "mesh/meshing/patch_mesh.h"
 #include "mesh/readers/scene_loader.h"
+#include "solver/form_factors/raycast_form_factor.h"
 #include "solver/refinement/hierarchical_radiosity.h"
+#include "solver/refinement/link_refiner.h"
+#include "solver/refinement/seen_ends.h"
 #include "solver/visibility/visibility.h"
 
 using namespace bounce;
@@ -70,4 +73,52 @@ TEST(SeenEnds, TheCorridorsFarLegAgreesWithAFinerSolve) {
     ASSERT_GT(finer.leaves.size(), adaptive.leaves.size());
     EXPECT_LT(weighted, 0.02);
     EXPECT_GT(mean_ends, 2 * weighted);  // what the test tells apart
+}
+
+// Every list's weights sum to one, and no node takes more than a point can: what it takes per
+// unit of its open area, F times its take, is at most the source's radiosity (F <= 1). Where a
+// few rays' kernel put a coarse end's weight on one small leaf, the iteration diverged.
+TEST(SeenEnds, EveryListSumsToOneAndNoNodeTakesMoreThanAPointCan) {
+    MeshingOptions m;
+    m.target_patches = 30;
+    const PatchMesh mesh(load_scene(std::string(BOUNCE_SOURCE_DIR) + "/examples/scenes/corridor.obj"), m);
+    const auto visibility = make_visibility("embree", mesh.patches());
+    HierarchicalOptions o;
+    o.power_epsilon = adaptive_power_epsilon(0.0);
+    const HierarchicalSolution sol = solve_hierarchical(mesh.patches(), *visibility, o);
+    const auto& G = sol.tree.geometry();
+    const RaycastFormFactor ff(G, visibility.get(), with_rays_only(with_default_rays(o.form_factors, kRefinementRays)));
+    const ElementOpenness open{sol.open_share, {}, sol.open_share.empty()};
+    const hierarchical::SeenEnds ends =
+        hierarchical::seen_ends(sol.tree, sol.links, ff, hierarchical::kPartialVisibilityRays, &open);
+    ASSERT_EQ(ends.first.size(), sol.links.size() + 1);
+    ASSERT_EQ(ends.middle.size(), sol.links.size());
+    ASSERT_EQ(ends.take.size(), ends.node.size());
+    ASSERT_EQ(ends.weight.size(), ends.node.size());
+    std::size_t lists = 0, partly = 0;
+    for (std::size_t k = 0; k < sol.links.size(); ++k) {
+        const HierarchicalLink& l = sol.links[k];
+        if (!l.between_elements()) {
+            EXPECT_EQ(ends.first[k], ends.first[k + 1]);  // a cluster end sends its mean
+            continue;
+        }
+        const double factor[2] = {double(l.fab), double(l.fab) * G[l.a].area / G[l.b].area};
+        const std::uint32_t bounds[3] = {ends.first[k], ends.middle[k], ends.first[k + 1]};
+        for (int end = 0; end < 2; ++end) {
+            if (bounds[end] == bounds[end + 1]) continue;
+            ++lists;
+            partly += l.visible > 0.0f && l.visible < 1.0f;
+            double sum = 0.0;
+            for (std::uint32_t e = bounds[end]; e < bounds[end + 1]; ++e) {
+                sum += ends.weight[e];
+                const std::uint32_t node = ends.node[e];
+                const double open_share = node < sol.open_share.size() ? sol.open_share[node] : 1.0;
+                EXPECT_LE(factor[end] * ends.take[e] / open_share, 1.0 + 1e-5) << "link " << k << " node " << node;
+            }
+            EXPECT_NEAR(sum, 1.0, 1e-5) << "link " << k;
+        }
+    }
+    std::printf("%zu lists over %zu links, %zu of them on partly visible links\n", lists, sol.links.size(), partly);
+    EXPECT_GT(partly, 0u);
+    EXPECT_GT(lists, sol.links.size() / 10);
 }
