@@ -231,6 +231,7 @@ HierarchicalSolution solve_hierarchical(const std::vector<Patch>& patches, const
         ends = options.weighted_ends && links.size() <= kWeightedEndsMaxLinks
                    ? seen_ends(tree, links, ff, kPartialVisibilityRays, openness)
                    : SeenEnds{};
+        out.weighted_ends = !ends.empty();
         solve_links({tree, rounds.clusters, links, options, openness, &ends}, tolerance, stage, x, res);
         if (res.status == SolveStatus::interrupted) break;
     }
@@ -248,7 +249,8 @@ std::string hierarchical_settings(const HierarchicalOptions& options, const Hier
       << " max_level=" << options.max_level << " refine_rounds=" << options.refine_rounds
       << " clustering=" << (options.clustering ? 1 : 0) << " tolerance=" << options.tolerance
       << " max_iterations=" << options.max_iterations << " elements=" << solution.leaves.size()
-      << " links=" << solution.links.size() << (options.open_parts ? " open_parts=1" : "");
+      << " links=" << solution.links.size() << (options.open_parts ? " open_parts=1" : "")
+      << (solution.weighted_ends ? " weighted_ends=1" : "");
     return s.str();
 }
 

@@ -127,6 +127,9 @@ struct HierarchicalSolution {
     /// hand all of it; the point gather then re-gathers the leaves first
     /// (solver/gather/hierarchical_point_values.h).
     double power_epsilon = 0.0;
+    /// The last round's links sent and took by their ends' weighted nodes (seen_ends.h): on,
+    /// within kWeightedEndsMaxLinks, and some end had a list.
+    bool weighted_ends = false;
 };
 
 /// Hierarchical radiosity (Hanrahan, Salzman and Aupperle 1991) with BF refinement. Each pair
