@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "mesh/geometry/solid_cuts.h"
+#include "mesh/geometry/surface_rays.h"
 #include "mesh/geometry/surface_tree.h"
 #include "mesh/scene/polygon.h"
 
@@ -168,6 +169,7 @@ constexpr double kNearGap = 0.05;
 struct CoverSearch {
     const Scene& scene;
     const SurfaceTree& tree;
+    const SurfaceRays& rays;          // the enclosure rays (tree's surfaces, at Embree's speed)
     std::vector<SurfaceFrame> frame;  // per surface; area 0 where it is degenerate
     std::vector<char> in_solid;       // 1 for the surfaces of closed convex objects
     double diag = 0.0;                // the scene's bounding-box diagonal
@@ -182,7 +184,7 @@ struct CoverSearch {
     bool enclosed(const V& x, const V& normal, int side = 8) const {
         const V from = x + 1e-6 * diag * normal;
         for (const V& d : hemisphere_directions(normal, side)) {
-            const std::vector<int> first = tree.first_hits(from, d, tol);
+            const std::vector<int> first = rays.first_hits(from, d, tol);
             if (std::none_of(first.begin(), first.end(),
                              [&](int t) { return glm::dot(frame[std::size_t(t)].normal, d) > 0; }))
                 return false;  // nothing, or only front faces: light can come from there
@@ -408,7 +410,8 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const Surfac
     std::vector<CoveredRegion> out;
     if (n < 2) return out;
     V lo(std::numeric_limits<double>::infinity()), hi = -lo;
-    CoverSearch cs{scene, tree, surface_frames(scene, lo, hi), std::vector<char>(n, 0), 0.0, 0.0, 0.0};
+    const SurfaceRays rays(scene);
+    CoverSearch cs{scene, tree, rays, surface_frames(scene, lo, hi), std::vector<char>(n, 0), 0.0, 0.0, 0.0};
     if (tree.empty()) return out;
     const auto solids = find_convex_solids(scene);
     for (const auto& solid : solids)
