@@ -2,6 +2,7 @@
 #include "app/common_options.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "app/progress_line.h"
 #include "mesh/readers/scene_loader.h"
 #include "mesh/scene/input_error.h"
 #include "solver/form_factors/form_factor_matrix.h"
@@ -85,7 +87,17 @@ double estimated_shooting_seconds(double patches) {
 }  // namespace
 
 Scene load_checked(const CommonOptions& o, const std::string& spec) {
-    Scene scene = load_scene(spec, LoadOptions{o.flip, o.strict});
+    // The contact cuts' search takes minutes in a furnished room of a million triangles: its
+    // progress shows once it has run a second (a small scene's load prints nothing).
+    ProgressLine line(!o.quiet);
+    const auto start = std::chrono::steady_clock::now();
+    LoadOptions load{o.flip, o.strict, {}};
+    load.progress = [&](std::size_t done, std::size_t total) {
+        if (std::chrono::steady_clock::now() - start < std::chrono::seconds(1)) return;
+        line.items("finding contacts: surfaces", done, total);
+    };
+    Scene scene = load_scene(spec, load);
+    line.finish();
     print_warnings(scene, o.quiet);
     return scene;
 }

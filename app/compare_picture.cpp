@@ -330,7 +330,7 @@ int run_compare_picture(const CommonOptions& o, const ComparePictureOptions& p, 
     std::vector<Rgb> se;
     const std::vector<Rgb> reference = reference_image(o, p, spec, dir, se);
 
-    const Scene scene = load_scene(spec, LoadOptions{o.flip, o.strict});
+    const Scene scene = load_scene(spec, LoadOptions{o.flip, o.strict, {}});
     const PinholeCamera view = scene_camera(scene, camera);
     const PixelRays rays = pixel_rays(view, p.width, p.height);
     const std::vector<char> mask = diffuse_pixels(PathTracer(scene), rays, p.width, p.height, p.seed + 3);

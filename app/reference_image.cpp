@@ -57,7 +57,7 @@ int run_reference_image(const CommonOptions& o, const ReferenceImageOptions& r) 
     se_path.replace_filename(out.stem().string() + "_se" + out.extension().string());
     check_output(out);
     const auto start = std::chrono::steady_clock::now();
-    const Scene scene = load_scene(o.scene, LoadOptions{o.flip, o.strict});
+    const Scene scene = load_scene(o.scene, LoadOptions{o.flip, o.strict, {}});
     const PathTracer tracer(scene);
     const int W = r.camera.width, H = r.camera.height;
     const PixelRays rays = pixel_rays(scene_camera(scene, r.camera), W, H);

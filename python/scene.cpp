@@ -41,7 +41,7 @@ std::shared_ptr<SceneData> load(const std::filesystem::path& scene_path, std::op
     Job job;
     job.run(
         [&] {
-            d->scene = load_scene(spec, LoadOptions{flip, strict});
+            d->scene = load_scene(spec, LoadOptions{flip, strict, {}});
             d->mesh = std::make_shared<const PatchMesh>(d->scene, m);
         },
         py::none());

@@ -2,6 +2,7 @@
 #include "mesh/geometry/contact_cuts.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -405,7 +406,8 @@ std::vector<CoveredRegion> covered_regions_of(const CoverSearch& cs, std::size_t
 
 }  // namespace
 
-std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const SurfaceTree& tree) {
+std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const SurfaceTree& tree,
+                                                const CoverProgress& progress) {
     const std::size_t n = scene.surfaces.size();
     std::vector<CoveredRegion> out;
     if (n < 2) return out;
@@ -425,8 +427,11 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const Surfac
     // Surfaces are independent (the tree is only read): in parallel, each into its own list,
     // joined in surface order so the cuts do not depend on the thread count.
     std::vector<std::vector<CoveredRegion>> found(n);
+    std::atomic<std::size_t> done{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& range) {
         for (std::size_t s = range.begin(); s != range.end(); ++s) found[s] = covered_regions_of(cs, s);
+        const std::size_t now = done += range.size();
+        if (progress) progress(now, n);
     });
     for (auto& f : found) out.insert(out.end(), std::make_move_iterator(f.begin()), std::make_move_iterator(f.end()));
     for (auto& c : find_solid_cuts(scene, solids)) out.push_back(std::move(c));

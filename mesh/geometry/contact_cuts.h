@@ -6,6 +6,7 @@
 // there), and a patch wholly inside it would shoot and receive light that does not exist.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -21,15 +22,21 @@ namespace bounce {
 /// their crossings exactly), and the outlines of surfaces lying parallel in front of it with the same facing
 /// (their backs towards it), flush or hung at a gap of at most 1/20 of their side (a lamp panel
 /// a centimetre below a ceiling; CoveredRegion::gap records it). A candidate counts only if it
-/// is enclosed: from points inside it every cosine-distributed ray meets a back face (CGAL AABB
-/// tree; a hung cover: 64 rays at its centre and half-way to each corner; a loop: 16 rays at
+/// is enclosed: from points inside it every cosine-distributed ray meets a back face (Embree,
+/// surface_rays.h; a hung cover: 64 rays at its centre and half-way to each corner; a loop: 16 rays at
 /// the centres of its two largest triangles and half-way to their corners), so a loop that
 /// light can enter (the legs of a table, an open frame) never removes anything. Non-convex
 /// loops come back as triangles. Appends find_solid_cuts (mesh/geometry/solid_cuts.h).
 std::vector<CoveredRegion> find_covered_regions(const Scene& scene);
 
-/// The same with the scene's surface tree already built (load_scene shares one).
-std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const SurfaceTree& tree);
+/// Surfaces searched so far and their total, from worker threads (a furnished room of a
+/// million triangles takes minutes).
+using CoverProgress = std::function<void(std::size_t done, std::size_t total)>;
+
+/// The same with the scene's surface tree already built (load_scene shares one); `progress`,
+/// if given, is called as blocks of surfaces finish.
+std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const SurfaceTree& tree,
+                                                const CoverProgress& progress = {});
 
 /// Convex polygon `poly` (in the plane with unit normal `normal`) minus convex polygon `hole`:
 /// `poly` itself when they do not overlap (by more than `min_area`), nothing when the hole

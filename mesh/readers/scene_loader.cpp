@@ -56,7 +56,7 @@ Scene load_scene(const std::string& spec, const LoadOptions& options) {
         for (auto& surface : scene.surfaces) std::reverse(surface.vertices.begin(), surface.vertices.end());
     // One tree serves both searches: it holds the geometry, which the flip does not change.
     const SurfaceTree tree(scene);
-    scene.covered = find_covered_regions(scene, tree);
+    scene.covered = find_covered_regions(scene, tree, options.progress);
     for (const auto& r : find_reversed_surfaces(scene, tree))
         scene.warnings.push_back(reversed_surface_warning(scene, r));
     if (options.strict && !scene.warnings.empty()) throw InputError(scene.warnings.front() + " (--strict)");

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "mesh/geometry/contact_cuts.h"
+
 #include "mesh/scene/scene.h"
 
 namespace bounce {
@@ -15,8 +17,9 @@ Scene load_scene(const std::string& spec);
 
 /// What every caller may ask of a load beyond the file itself.
 struct LoadOptions {
-    bool flip = false;    // turn every face round (scenes wound clockwise seen from the front)
-    bool strict = false;  // a warning about the input is an error
+    bool flip = false;       // turn every face round (scenes wound clockwise seen from the front)
+    bool strict = false;     // a warning about the input is an error
+    CoverProgress progress;  // the contact cuts' search (find_covered_regions), if given
 };
 
 /// load_scene with the options: with flip every face is turned before the covered regions and

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <mutex>
 
 #include <glm/geometric.hpp>
 
@@ -255,4 +256,27 @@ TEST(ContactCuts, ABoxInACornerHidesItsFootprintOnTheFloorAndOnTheWall) {
     EXPECT_NEAR(hidden[floor], 0.4 + 0.4, 1e-9);  // both standing boxes' footprints
     EXPECT_NEAR(hidden[east], 1.0, 1e-9);         // the corner box's 1 x 1 side
     EXPECT_NEAR(hidden[north], 0.5, 1e-9);        // the wall box's back, 1 x 0.5
+}
+
+TEST(ContactCuts, ProgressCountsEverySurfaceOnceAndChangesNothing) {
+    // The search reports blocks of surfaces from worker threads; the last report is the whole.
+    const Scene s = load_scene("cornell");
+    const SurfaceTree tree(s);
+    std::mutex m;
+    std::size_t calls = 0, most = 0, total_seen = 0;
+    const auto with = find_covered_regions(s, tree, [&](std::size_t done, std::size_t total) {
+        const std::lock_guard<std::mutex> lock(m);
+        ++calls;
+        most = std::max(most, done);
+        total_seen = total;
+    });
+    const auto without = find_covered_regions(s, tree);
+    EXPECT_GT(calls, 0u);
+    EXPECT_EQ(most, s.surfaces.size());
+    EXPECT_EQ(total_seen, s.surfaces.size());
+    ASSERT_EQ(with.size(), without.size());
+    for (std::size_t k = 0; k < with.size(); ++k) {
+        EXPECT_EQ(with[k].surface, without[k].surface);
+        EXPECT_EQ(with[k].polygon, without[k].polygon);
+    }
 }
