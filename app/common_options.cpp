@@ -87,8 +87,8 @@ double estimated_shooting_seconds(double patches) {
 }  // namespace
 
 Scene load_checked(const CommonOptions& o, const std::string& spec) {
-    // The contact cuts' search takes minutes in a furnished room of a million triangles: its
-    // progress shows once it has run a second (a small scene's load prints nothing).
+    // The contact cuts' search grows with a furnished room's surfaces: its progress shows once
+    // it has run a second (a small scene's load prints nothing).
     ProgressLine line(!o.quiet);
     const auto start = std::chrono::steady_clock::now();
     LoadOptions load{o.flip, o.strict, {}};

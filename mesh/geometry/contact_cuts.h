@@ -29,8 +29,8 @@ namespace bounce {
 /// loops come back as triangles. Appends find_solid_cuts (mesh/geometry/solid_cuts.h).
 std::vector<CoveredRegion> find_covered_regions(const Scene& scene);
 
-/// Surfaces searched so far and their total, from worker threads (a furnished room of a
-/// million triangles takes minutes).
+/// Surfaces searched so far and their total, from worker threads (the search grows with the
+/// surfaces and the objects near each).
 using CoverProgress = std::function<void(std::size_t done, std::size_t total)>;
 
 /// The same with the scene's surface tree already built (load_scene shares one); `progress`,

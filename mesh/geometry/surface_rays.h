@@ -12,7 +12,7 @@ namespace bounce {
 
 /// The scene's input surfaces as triangles in an Embree BVH (single precision, recentred on
 /// the scene's box, so rounding stays near 6e-8 of its diagonal): the contact cuts' enclosure
-/// rays, tens of millions in a furnished room, at Embree's speed. The exact queries stay with
+/// rays, 64 at every point they prove covered, at Embree's speed. The exact queries stay with
 /// SurfaceTree; a first hit here is only placed along the ray, and what lies within a slack
 /// of it is gathered with that slack, far above the rounding.
 class SurfaceRays {
