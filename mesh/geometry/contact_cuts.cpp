@@ -411,10 +411,10 @@ std::vector<CoveredRegion> find_covered_regions(const Scene& scene, const Surfac
     const std::size_t n = scene.surfaces.size();
     std::vector<CoveredRegion> out;
     if (n < 2) return out;
+    if (tree.empty()) return out;
     V lo(std::numeric_limits<double>::infinity()), hi = -lo;
     const SurfaceRays rays(scene);
     CoverSearch cs{scene, tree, rays, surface_frames(scene, lo, hi), std::vector<char>(n, 0), 0.0, 0.0, 0.0};
-    if (tree.empty()) return out;
     const auto solids = find_convex_solids(scene);
     for (const auto& solid : solids)
         for (const int t : solid.surfaces) cs.in_solid[std::size_t(t)] = 1;

@@ -10,6 +10,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "mesh/geometry/embree_ray.h"
 #include "mesh/scene/polygon.h"
 
 namespace bounce {
@@ -99,18 +100,7 @@ SurfaceRays::~SurfaceRays() = default;
 std::vector<int> SurfaceRays::first_hits(const glm::dvec3& from, const glm::dvec3& dir, double slack) const {
     const Impl& m = *m_impl;
     if (!m.scene) return {};
-    const glm::dvec3 o = from - m.centre, u = glm::normalize(dir);
-    RTCRayHit rh{};
-    rh.ray.org_x = float(o.x);
-    rh.ray.org_y = float(o.y);
-    rh.ray.org_z = float(o.z);
-    rh.ray.dir_x = float(u.x);
-    rh.ray.dir_y = float(u.y);
-    rh.ray.dir_z = float(u.z);
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = ~0u;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = embree_ray(from, glm::normalize(dir), 0.0, std::numeric_limits<double>::infinity(), m.centre);
     RTCIntersectContext first;
     rtcInitIntersectContext(&first);
     rtcIntersect1(m.scene, &first, &rh);

@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "mesh/geometry/embree_ray.h"
 #include "mesh/scene/polygon.h"
 
 namespace bounce::path_tracing {
@@ -128,18 +129,7 @@ Hit TracedScene::trace_all(const glm::dvec3& o, const glm::dvec3& d, double tnea
 Hit TracedScene::trace(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRayHit rh{};
-    const glm::dvec3 oc = o - centre;
-    rh.ray.org_x = float(oc.x);
-    rh.ray.org_y = float(oc.y);
-    rh.ray.org_z = float(oc.z);
-    rh.ray.dir_x = float(d.x);
-    rh.ray.dir_y = float(d.y);
-    rh.ray.dir_z = float(d.z);
-    rh.ray.tnear = float(tnear);
-    rh.ray.tfar = float(tfar);
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = embree_ray(o, d, tnear, tfar, centre);
     rtcIntersect1(embree.scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {};
     return {double(rh.ray.tfar), triangle_surface[rh.hit.primID]};

@@ -9,6 +9,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "mesh/geometry/embree_ray.h"
 #include "mesh/scene/polygon.h"
 #include "mesh/scene/sphere.h"
 
@@ -114,18 +115,7 @@ PatchSceneTracer::Hit PatchSceneTracer::trace(const glm::dvec3& o, const glm::dv
     const Impl& im = *m_impl;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRayHit rh{};
-    const glm::dvec3 oc = o - im.centre;
-    rh.ray.org_x = float(oc.x);
-    rh.ray.org_y = float(oc.y);
-    rh.ray.org_z = float(oc.z);
-    rh.ray.dir_x = float(d.x);
-    rh.ray.dir_y = float(d.y);
-    rh.ray.dir_z = float(d.z);
-    rh.ray.tnear = float(t_min);
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = embree_ray(o, d, t_min, std::numeric_limits<double>::infinity(), im.centre);
     rtcIntersect1(im.rtc, &context, &rh);
     Hit hit;
     double t_max = std::numeric_limits<double>::infinity();
