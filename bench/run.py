@@ -104,9 +104,16 @@ def main():
     for key, name in [("BM_Rays/cgal/real_time", "shadow rays, cgal"), ("BM_Rays/embree/real_time", "shadow rays, embree"),
                       ("BM_Rays/embree_packets/real_time", "shadow rays, embree packets of 4")]:
         micro(name, vis[key]["items_per_second"], "rays/s (1 thread)", int(vis[key]["patches"]), {"threads": 1})
-    blocked = {k: round(v["blocked_fraction"], 9) for k, v in vis.items()}
+    blocked = {k: round(v["blocked_fraction"], 9) for k, v in vis.items() if k.startswith("BM_Rays/")}
     if len(set(blocked.values())) != 1:
         raise SystemExit(f"bench: the backends disagree on the same rays: {blocked}")
+    # The contact cuts' enclosure rays, through the exact tree and through Embree.
+    for key, name in [("BM_FirstHits<SurfaceTree>/real_time", "enclosure rays, exact tree"),
+                      ("BM_FirstHits<SurfaceRays>/real_time", "enclosure rays, embree")]:
+        micro(name, vis[key]["items_per_second"], "rays/s (1 thread)", micro_patches, {"threads": 1})
+    met = {k: round(v["met_fraction"], 9) for k, v in vis.items() if k.startswith("BM_FirstHits")}
+    if len(set(met.values())) != 1:
+        raise SystemExit(f"bench: the enclosure rays' trees disagree: {met}")
 
     ff = run_gbench(os.path.join(a.build, "bench", "bench_form_factors"), a.short, micro_patches)
     for method in ["raycast_embree", "raycast_cgal", "analytic", "hemicube"]:
