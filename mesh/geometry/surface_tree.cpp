@@ -22,6 +22,31 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
 K::Point_3 to_cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
 
+/// Lists the triangles meeting a box, answering from bounding boxes where they decide: a
+/// triangle whose box lies inside the query meets it, one whose box misses it does not; only
+/// those straddling the query's faces take CGAL's exact test. The answer is the exact one, at
+/// a fraction of the cost when the query holds many small triangles (a furnished room).
+class BoxListing {
+public:
+    BoxListing(const CGAL::Bbox_3& box, std::vector<Primitive::Id>& out) : m_box(box), m_out(out) {}
+    bool go_further() const { return true; }
+    void intersection(const K::Iso_cuboid_3& query, const Primitive& primitive) {
+        const K::Triangle_3& tri = *primitive.id();
+        const CGAL::Bbox_3 b = tri.bbox();
+        if (!CGAL::do_overlap(b, m_box)) return;
+        const bool inside = b.xmin() >= m_box.xmin() && b.xmax() <= m_box.xmax() && b.ymin() >= m_box.ymin() &&
+                            b.ymax() <= m_box.ymax() && b.zmin() >= m_box.zmin() && b.zmax() <= m_box.zmax();
+        if (inside || CGAL::do_intersect(query, tri)) m_out.push_back(primitive.id());
+    }
+    bool do_intersect(const K::Iso_cuboid_3&, const CGAL::AABB_node<Tree::AABB_traits>& node) const {
+        return CGAL::do_overlap(node.bbox(), m_box);
+    }
+
+private:
+    CGAL::Bbox_3 m_box;
+    std::vector<Primitive::Id>& m_out;
+};
+
 }  // namespace
 
 struct SurfaceTree::Impl {
@@ -81,7 +106,8 @@ std::vector<int> SurfaceTree::first_hits(const glm::dvec3& from, const glm::dvec
 std::vector<int> SurfaceTree::in_box(const glm::dvec3& lo, const glm::dvec3& hi) const {
     if (empty()) return {};
     std::vector<Primitive::Id> ids;
-    m_impl->tree.all_intersected_primitives(K::Iso_cuboid_3(to_cgal(lo), to_cgal(hi)), std::back_inserter(ids));
+    BoxListing listing(CGAL::Bbox_3(lo.x, lo.y, lo.z, hi.x, hi.y, hi.z), ids);
+    m_impl->tree.traversal(K::Iso_cuboid_3(to_cgal(lo), to_cgal(hi)), listing);
     return m_impl->owners(ids);
 }
 
