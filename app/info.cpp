@@ -59,18 +59,23 @@ int run_info(const CommonOptions& o, const InfoCommand& c) {
     // and patches.
     std::vector<std::size_t> patches(scene.surfaces.size(), 0);
     for (const auto& p : mesh.patches()) ++patches[std::size_t(p.surface)];
-    // Contact cuts (mesh/geometry/contact_cuts.h): the area no light reaches, left out of the patches.
-    std::vector<double> removed(scene.surfaces.size(), 0.0);
-    if (o.meshing.cut_contacts)
-        for (const auto& c : scene.covered) removed[std::size_t(c.surface)] += polygon_area(c.polygon);
+    // Contact cuts (mesh/geometry/contact_cuts.h): the area no light reaches, left out of the
+    // patches. Measured as the surface's area less its patches', not as the covered regions'
+    // sum: regions overlap (a loop and the covers inside it) and a loop may reach past a small
+    // surface, so their sum can exceed the surface.
+    std::vector<double> kept(scene.surfaces.size(), 0.0);
+    for (const auto& p : mesh.patches()) kept[std::size_t(p.surface)] += p.area;
     // A table: every column as wide as its widest entry, numbers right-aligned, text left.
     std::vector<std::array<std::string, 6>> table = {{"surface", "patches", "area", "removed", "material", "where"}};
     for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
         const Surface& f = scene.surfaces[s];
         const Material& m = scene.materials[std::size_t(f.material)];
         std::ostringstream area, cut;
-        area << polygon_area(f.vertices);
-        cut << removed[s];
+        const double whole = polygon_area(f.vertices);
+        // Below 1e-9 of the surface is the rounding of the patches' corners.
+        const double removed = o.meshing.cut_contacts && whole - kept[s] > 1e-9 * whole ? whole - kept[s] : 0.0;
+        area << whole;
+        cut << removed;
         table.push_back({std::to_string(s), std::to_string(patches[s]), area.str(), cut.str(),
                          m.name + (m.emission.max() > 0 ? " (emits " + m.emission.to_string() + ")" : ""),
                          describe(f.where, f.object)});
