@@ -2,7 +2,7 @@
 # Installs the Debian packages bounce needs, only those that are missing.
 set -euo pipefail
 PKGS=(build-essential cmake pkg-config
-      libcgal-dev libopenmesh-dev libglm-dev libvtk9-dev
+      libcgal-dev libopenmesh-dev libglm-dev libvtk9-dev libboost-dev
       libtbb-dev libembree-dev nlohmann-json3-dev libcli11-dev libnanoflann-dev libopenexr-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       python3-vtk9 python3-meshio python3-matplotlib xvfb xauth
