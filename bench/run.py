@@ -114,6 +114,13 @@ def main():
     met = {k: round(v["met_fraction"], 9) for k, v in vis.items() if k.startswith("BM_FirstHits")}
     if len(set(met.values())) != 1:
         raise SystemExit(f"bench: the enclosure rays' trees disagree: {met}")
+    # The contact cuts' box queries: CGAL's exact listing against SurfaceTree's.
+    for key, name in [("BM_BoxQueries<ExactBoxTree>/real_time", "box queries, exact test of each triangle"),
+                      ("BM_BoxQueries<SurfaceTree>/real_time", "box queries, bounding boxes first")]:
+        micro(name, vis[key]["items_per_second"], "queries/s (1 thread)", 20000, {"threads": 1})
+    found = {k: v["found"] for k, v in vis.items() if k.startswith("BM_BoxQueries")}
+    if len(set(found.values())) != 1:
+        raise SystemExit(f"bench: the box queries disagree: {found}")
 
     ff = run_gbench(os.path.join(a.build, "bench", "bench_form_factors"), a.short, micro_patches)
     for method in ["raycast_embree", "raycast_cgal", "analytic", "hemicube"]:
