@@ -278,8 +278,9 @@ TEST(ConvexBlockers, TheCornellBlocksAreSolidsAndNothingElseIs) {
         EXPECT_EQ(k >= 0 && !solids.solid(std::size_t(k)).flat, block) << i << " " << surface.object;
         // The walls are cut into patches on one plane, each tiling its rectangle: flat solids.
         // The floor and the ceiling are not: the blocks' footprints and the lamp's are cut out.
-        if (!block)
+        if (!block) {
             EXPECT_EQ(k >= 0, surface.object != "floor" && surface.object != "ceiling") << i << " " << surface.object;
+        }
     }
 }
 
