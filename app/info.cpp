@@ -57,14 +57,16 @@ int run_info(const CommonOptions& o, const InfoCommand& c) {
               << "warnings:       " << scene.warnings.size() + mesh.warnings().size() << "\n";
     // The surfaces themselves, as --help promises: where each came from, its material, area
     // and patches.
-    std::vector<std::size_t> patches(scene.surfaces.size(), 0);
-    for (const auto& p : mesh.patches()) ++patches[std::size_t(p.surface)];
     // Contact cuts (mesh/geometry/contact_cuts.h): the area no light reaches, left out of the
     // patches. Measured as the surface's area less its patches', not as the covered regions'
     // sum: regions overlap (a loop and the covers inside it) and a loop may reach past a small
     // surface, so their sum can exceed the surface.
+    std::vector<std::size_t> patches(scene.surfaces.size(), 0);
     std::vector<double> kept(scene.surfaces.size(), 0.0);
-    for (const auto& p : mesh.patches()) kept[std::size_t(p.surface)] += p.area;
+    for (const auto& p : mesh.patches()) {
+        ++patches[std::size_t(p.surface)];
+        kept[std::size_t(p.surface)] += p.area;
+    }
     // A table: every column as wide as its widest entry, numbers right-aligned, text left.
     std::vector<std::array<std::string, 6>> table = {{"surface", "patches", "area", "removed", "material", "where"}};
     for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {

@@ -29,7 +29,7 @@ K::Point_3 to_cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
 /// a fraction of the cost when the query holds many small triangles (a furnished room).
 class BoxListing {
 public:
-    BoxListing(const CGAL::Bbox_3& box, std::vector<Primitive::Id>& out) : m_box(box), m_out(out) {}
+    BoxListing(const K::Iso_cuboid_3& query, std::vector<Primitive::Id>& out) : m_box(query.bbox()), m_out(out) {}
     bool go_further() const { return true; }
     void intersection(const K::Iso_cuboid_3& query, const Primitive& primitive) {
         const K::Triangle_3& tri = *primitive.id();
@@ -109,8 +109,9 @@ std::vector<int> SurfaceTree::first_hits(const glm::dvec3& from, const glm::dvec
 std::vector<int> SurfaceTree::in_box(const glm::dvec3& lo, const glm::dvec3& hi) const {
     if (empty()) return {};
     std::vector<Primitive::Id> ids;
-    BoxListing listing(CGAL::Bbox_3(lo.x, lo.y, lo.z, hi.x, hi.y, hi.z), ids);
-    m_impl->tree.traversal(K::Iso_cuboid_3(to_cgal(lo), to_cgal(hi)), listing);
+    const K::Iso_cuboid_3 query(to_cgal(lo), to_cgal(hi));
+    BoxListing listing(query, ids);
+    m_impl->tree.traversal(query, listing);
     return m_impl->owners(ids);
 }
 
