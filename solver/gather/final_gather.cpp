@@ -336,7 +336,7 @@ void take_sources(const GatherInputs& in, std::size_t list, SourceTaker& take) {
 
 /// `gathered` plus every term's radiosity times its factor and the kernel-weighted share of
 /// its rays that arrived (weighted by the samples' shape where the term is shaped).
-Rgb add_terms(Rgb gathered, const GatherInputs& in, const PointScratch& scratch) {
+Rgb add_terms(Rgb gathered, const GatherInputs& in, const PointScratch& scratch, Rgb& near) {
     const std::vector<double>& kernel = scratch.kernel;
     const std::vector<std::uint8_t>& blocked = scratch.blocked;
     for (const Term& t : scratch.terms) {
@@ -360,10 +360,14 @@ Rgb add_terms(Rgb gathered, const GatherInputs& in, const PointScratch& scratch)
             }
             Rgb seen;
             for (int c = 0; c < 3; ++c) seen[c] = shaped_all[c] > 0 ? shaped_open[c] / shaped_all[c] : share;
-            gathered += in.radiosity[t.patch] * t.shape * seen * t.f0;
+            const Rgb term = in.radiosity[t.patch] * t.shape * seen * t.f0;
+            gathered += term;
+            near += term;
             continue;
         }
-        gathered += in.radiosity[t.patch] * (t.f0 * share);
+        const Rgb term = in.radiosity[t.patch] * (t.f0 * share);
+        gathered += term;
+        if (t.shaped) near += term;
     }
     return gathered;
 }
@@ -371,7 +375,7 @@ Rgb add_terms(Rgb gathered, const GatherInputs& in, const PointScratch& scratch)
 /// B at point i, x, which reflects: its emission plus its reflectance times what it gathers.
 /// First every source's unoccluded factor and ray targets, then all the point's rays in one
 /// batch (traced as packets), then the sum.
-Rgb gather_at(const GatherInputs& in, const Visibility& visibility, std::size_t i, const GatherPoint& x) {
+Rgb gather_at(const GatherInputs& in, const Visibility& visibility, std::size_t i, const GatherPoint& x, Rgb& near) {
     SplitMix64 rng{in.options.seed * 0x9E3779B97F4A7C15ull + i};
     thread_local PointScratch scratch;
     scratch.terms.clear();
@@ -384,7 +388,8 @@ Rgb gather_at(const GatherInputs& in, const Visibility& visibility, std::size_t 
     take_sources(in, list, take);
     scratch.blocked.resize(scratch.segments.size());
     visibility.occluded(scratch.segments, scratch.blocked);
-    Rgb gathered = add_terms(take.open_sum, in, scratch);
+    Rgb gathered = add_terms(take.open_sum, in, scratch, near);
+    near = x.reflectance * near;
     if (in.sources && !in.sources->irradiance.empty()) gathered += in.sources->irradiance[list];
     return x.emission + x.reflectance * gathered;
 }
@@ -392,9 +397,10 @@ Rgb gather_at(const GatherInputs& in, const Visibility& visibility, std::size_t 
 /// Both final_gathers: over every patch (sources null) or over each point's list.
 std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity, const Visibility& visibility,
                         std::span<const GatherPoint> points, const GatherSources* sources, const GatherOptions& options,
-                        const std::atomic<bool>* cancel,
-                        const std::function<void(std::size_t, std::size_t)>& progress) {
+                        const std::atomic<bool>* cancel, const std::function<void(std::size_t, std::size_t)>& progress,
+                        std::vector<Rgb>* near_part = nullptr) {
     std::vector<Rgb> out(points.size());
+    if (near_part) near_part->assign(points.size(), Rgb());
     for (std::size_t i = 0; i < points.size(); ++i) out[i] = points[i].emission;
     std::atomic<std::size_t> done{0};
     const double lift = visibility.offset();
@@ -408,7 +414,9 @@ std::vector<Rgb> gather(const std::vector<Patch>& patches, std::span<const Rgb> 
         if (cancel && cancel->load(std::memory_order_relaxed)) return;
         const GatherPoint& x = points[i];
         if (x.reflectance.max() <= 0) return;  // reflects nothing: B = E
-        out[i] = gather_at(in, visibility, i, x);
+        Rgb near;
+        out[i] = gather_at(in, visibility, i, x, near);
+        if (near_part) (*near_part)[i] = near;
         const std::size_t d = ++done;
         if (progress) progress(d, points.size());
     });
@@ -422,6 +430,14 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
                               const GatherOptions& options, const std::atomic<bool>* cancel,
                               const std::function<void(std::size_t, std::size_t)>& progress) {
     return gather(patches, radiosity, visibility, points, nullptr, options, cancel, progress);
+}
+
+std::vector<Rgb> final_gather_with_near_part(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
+                                             const Visibility& visibility, std::span<const GatherPoint> points,
+                                             const GatherOptions& options, std::vector<Rgb>& near_part,
+                                             const std::atomic<bool>* cancel,
+                                             const std::function<void(std::size_t, std::size_t)>& progress) {
+    return gather(patches, radiosity, visibility, points, nullptr, options, cancel, progress, &near_part);
 }
 
 std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,

@@ -66,6 +66,16 @@ std::vector<Rgb> final_gather(const std::vector<Patch>& patches, std::span<const
                               const GatherOptions& options = {}, const std::atomic<bool>* cancel = nullptr,
                               const std::function<void(std::size_t, std::size_t)>& progress = {});
 
+/// final_gather over every patch that also gives, per point, the part of its value that its
+/// shaped sources sent (those within GatherOptions::shape_within of their circumradius:
+/// rho(x) times their irradiance; zero without source_corners), so that near field can be
+/// gathered again from finer sources while the rest is kept (refine_patch_display).
+std::vector<Rgb> final_gather_with_near_part(const std::vector<Patch>& patches, std::span<const Rgb> radiosity,
+                                             const Visibility& visibility, std::span<const GatherPoint> points,
+                                             const GatherOptions& options, std::vector<Rgb>& near_part,
+                                             const std::atomic<bool>* cancel = nullptr,
+                                             const std::function<void(std::size_t, std::size_t)>& progress = {});
+
 /// What each point gathers from, when not every patch (a hierarchy's links, which cover the
 /// scene once from every element: hierarchical_point_values.h). Point i gathers from the
 /// patches of list `list[i]`, patches[offsets[k] .. offsets[k + 1]) for list k, and adds the

@@ -5,12 +5,15 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <numeric>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <glm/ext/vector_int3_sized.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
@@ -124,7 +127,7 @@ double corner_step(const ElementTree& tree, const PointValues& known, std::uint3
 bool gather_new_vertices(const PatchMesh& mesh, const std::vector<GatherPoint>& points,
                          const std::vector<Patch>& sources, const std::vector<Rgb>& radiosity,
                          const Visibility& visibility, const GatherOptions& options, PointValues& known,
-                         const std::atomic<bool>* cancel,
+                         PointValues& near_known, const std::atomic<bool>* cancel,
                          const std::function<void(std::size_t, std::size_t)>& progress) {
     std::vector<GatherPoint> todo;
     std::vector<glm::dvec3> at;
@@ -134,9 +137,14 @@ bool gather_new_vertices(const PatchMesh& mesh, const std::vector<GatherPoint>& 
             at.push_back(mesh.vertex_position(v));
         }
     if (todo.empty()) return true;
-    const std::vector<Rgb> gathered = final_gather(sources, radiosity, visibility, todo, options, cancel, progress);
+    std::vector<Rgb> near;
+    const std::vector<Rgb> gathered =
+        final_gather_with_near_part(sources, radiosity, visibility, todo, options, near, cancel, progress);
     if (cancel && cancel->load()) return false;
-    for (std::size_t q = 0; q < todo.size(); ++q) known.add(todo[q].surface, {at[q], gathered[q]});
+    for (std::size_t q = 0; q < todo.size(); ++q) {
+        known.add(todo[q].surface, {at[q], gathered[q]});
+        near_known.add(todo[q].surface, {at[q], near[q]});
+    }
     return true;
 }
 
@@ -155,9 +163,8 @@ std::vector<Rgb> corner_values(const PatchMesh& mesh, const std::vector<Rgb>& po
 /// in front of them whose corners differ by more than `tolerance` of the brightest: their
 /// values change when those sources send their shape (beside a contact, a wall's strip).
 std::vector<std::size_t> vertices_beside_shaped_sources(const std::vector<GatherPoint>& points,
-                                                        const std::vector<Patch>& patches,
-                                                        const std::vector<Rgb>& corners, double within,
-                                                        double tolerance) {
+                                                        const std::vector<Patch>& patches, std::span<const Rgb> corners,
+                                                        double within, double tolerance) {
     std::vector<std::uint32_t> shaped;
     for (std::size_t j = 0; j < patches.size(); ++j) {
         double lo = 1e300, hi = 0.0;
@@ -273,6 +280,170 @@ std::vector<Candidate> patches_to_try(const PatchMesh& mesh, const std::vector<R
     return active;
 }
 
+/// Per tree node, for the near field's sources: the display cells (`cells`, the live leaves)
+/// and their ancestors, each with its corners' point values (`known`) and, as radiosity, the
+/// mean of its corners (a cell) or the area-weighted mean of its children; first_child -1 below
+/// the cells.
+struct DisplaySources {
+    std::vector<std::int32_t> first_child;
+    std::vector<std::uint8_t> live;
+    std::vector<Rgb> radiosity, corners;
+    std::vector<double> spread;
+};
+
+void fill_display_sources(const ElementTree& tree, const PointValues& known, double shape_within, DisplaySources& out) {
+    const std::vector<Patch>& geometry = tree.geometry();
+    out.radiosity.assign(tree.size(), Rgb());
+    out.corners.assign(4 * tree.size(), Rgb());
+    out.spread.assign(tree.size(), 0.0);
+    // Children come after their parent, so a backward pass sees them first.
+    for (std::size_t k = tree.size(); k-- > 0;) {
+        if (!out.live[k]) continue;
+        const ElementTree::Node& n = tree.node(k);
+        Rgb mean;
+        for (int c = 0; c < n.corner_count; ++c) {
+            const Rgb* v = known.find(geometry[k].surface, tree.point(n.root, n.corners[std::size_t(c)]));
+            if (v) out.corners[4 * k + std::size_t(c)] = *v;
+            mean += out.corners[4 * k + std::size_t(c)];
+        }
+        if (out.first_child[k] < 0) {
+            out.radiosity[k] = mean * (1.0 / n.corner_count);
+            continue;
+        }
+        Rgb sum;
+        double area = 0.0;
+        for (std::size_t c = 0; c < 4; ++c) {
+            const std::size_t child = std::size_t(out.first_child[k]) + c;
+            sum += out.radiosity[child] * geometry[child].area;
+            area += geometry[child].area;
+        }
+        out.radiosity[k] = sum * (1.0 / area);
+        // GatherSources::descend = 1 then takes the children within shape_within of the
+        // node's circumradius: where the gather shapes a source, it goes down instead.
+        out.spread[k] = shape_within * out.radiosity[k].luminance();
+    }
+}
+
+/// Per point, the roots in front of it (on other surfaces) within `within` of their
+/// circumradius of it, as the gather shapes them: a grid over the points, each root
+/// looking in the cells its reach overlaps.
+std::vector<std::vector<std::uint32_t>> near_roots(const std::vector<Patch>& roots,
+                                                   const std::vector<GatherPoint>& points, double within) {
+    std::vector<std::vector<std::uint32_t>> out(points.size());
+    double reach = 0.0;
+    for (const Patch& p : roots) reach = std::max(reach, within * circumradius(p));
+    if (points.empty() || !(reach > 0)) return out;
+    const auto key = [reach](const glm::dvec3& x) {
+        return glm::i64vec3(std::floor(x.x / reach), std::floor(x.y / reach), std::floor(x.z / reach));
+    };
+    std::map<std::array<std::int64_t, 3>, std::vector<std::uint32_t>> grid;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const glm::i64vec3 k = key(points[i].position);
+        grid[{k.x, k.y, k.z}].push_back(std::uint32_t(i));
+    }
+    for (std::size_t j = 0; j < roots.size(); ++j) {
+        const Patch& p = roots[j];
+        const double r = within * circumradius(p);
+        const glm::i64vec3 lo = key(p.centre - glm::dvec3(r)), hi = key(p.centre + glm::dvec3(r));
+        for (std::int64_t x = lo.x; x <= hi.x; ++x)
+            for (std::int64_t y = lo.y; y <= hi.y; ++y)
+                for (std::int64_t z = lo.z; z <= hi.z; ++z) {
+                    const auto it = grid.find({x, y, z});
+                    if (it == grid.end()) continue;
+                    for (const std::uint32_t i : it->second) {
+                        const GatherPoint& g = points[i];
+                        if (p.surface != g.surface && p.height(g.position) > 0 &&
+                            glm::length(g.position - p.centre) < r)
+                            out[i].push_back(std::uint32_t(j));
+                    }
+                }
+    }
+    return out;
+}
+
+/// PatchDisplayRefinement::near_field_passes: the vertices of `refined` whose value holds a
+/// near part (`near_known`) take it again, each pass, from the display cells of their near
+/// roots at the cells' current point data: B = (B_0 - near_0) + rho H_near. False when
+/// `cancel` was set.
+bool gather_near_field(const ElementTree& tree, const std::vector<std::uint32_t>& cells, const PatchMesh& refined,
+                       const std::vector<GatherPoint>& points, PointValues& known, const PointValues& near_known,
+                       const Visibility& visibility, const GatherOptions& options, int passes,
+                       const std::atomic<bool>* cancel) {
+    DisplaySources d;
+    d.first_child.assign(tree.size(), -1);
+    d.live.assign(tree.size(), 0);
+    for (const std::uint32_t c : cells) {
+        d.live[c] = 1;
+        for (std::int32_t a = tree.node(c).parent; a >= 0; a = tree.node(std::size_t(a)).parent) {
+            d.live[std::size_t(a)] = 1;
+            d.first_child[std::size_t(a)] = tree.node(std::size_t(a)).first_child;
+        }
+    }
+    const std::vector<std::vector<std::uint32_t>> near = near_roots(tree.roots(), points, options.shape_within);
+    std::vector<std::size_t> todo;
+    std::vector<Rgb> far;  // B_0 - near_0: what the pass keeps
+    std::vector<GatherPoint> at;
+    std::vector<std::uint32_t> list, listed;
+    std::vector<std::size_t> offsets = {0};
+    for (std::size_t v = 0; v < points.size(); ++v) {
+        const glm::dvec3 x = refined.vertex_position(v);
+        const Rgb* b = known.find(points[v].surface, x);
+        const Rgb* n = near_known.find(points[v].surface, x);
+        if (!b || !n || near[v].empty() || !(n->max() > 0)) continue;
+        todo.push_back(v);
+        far.push_back(*b - *n);
+        at.push_back(points[v]);
+        list.push_back(std::uint32_t(offsets.size() - 1));
+        listed.insert(listed.end(), near[v].begin(), near[v].end());
+        offsets.push_back(listed.size());
+    }
+    if (todo.empty()) return true;
+    const std::vector<Patch> sources(tree.geometry().begin(), tree.geometry().begin() + std::ptrdiff_t(tree.size()));
+    for (int pass = 0; pass < passes; ++pass) {
+        fill_display_sources(tree, known, options.shape_within, d);
+        GatherSources s;
+        s.list = list;
+        s.offsets = offsets;
+        s.patches = listed;
+        s.first_child = d.first_child;
+        s.spread = d.spread;
+        s.descend = 1.0;
+        GatherOptions o = options;
+        o.source_corners = d.corners;
+        const std::vector<Rgb> gathered = final_gather(sources, d.radiosity, visibility, at, s, o, cancel);
+        if (cancel && cancel->load()) return false;
+        for (std::size_t q = 0; q < todo.size(); ++q) {
+            Rgb b = far[q] + gathered[q] - at[q].emission;
+            for (int c = 0; c < 3; ++c) b[c] = std::max(b[c], at[q].emission[c]);
+            known.set(at[q].surface, refined.vertex_position(todo[q]), b);
+        }
+    }
+    return true;
+}
+
+/// The vertices beside near sources whose corners differ (vertices_beside_shaped_sources)
+/// gathered again with those sources' shape (`shaped`), into res.point_radiosity, each
+/// vertex's near part into `near_known`. False when `cancel` was set.
+bool gather_beside_shaped_sources(const PatchMesh& mesh, SolveResult& res, const Visibility& visibility,
+                                  const GatherOptions& shaped, double tolerance, PointValues& near_known,
+                                  const std::atomic<bool>* cancel,
+                                  const std::function<void(std::size_t, std::size_t)>& progress) {
+    const std::vector<GatherPoint> points = vertex_gather_points(mesh);
+    const std::vector<std::size_t> again =
+        vertices_beside_shaped_sources(points, mesh.patches(), shaped.source_corners, shaped.shape_within, tolerance);
+    std::vector<GatherPoint> todo;
+    for (const std::size_t v : again) todo.push_back(points[v]);
+    std::vector<Rgb> near;
+    const std::vector<Rgb> gathered =
+        final_gather_with_near_part(mesh.patches(), res.radiosity, visibility, todo, shaped, near, cancel, progress);
+    if (cancel && cancel->load()) return false;
+    for (std::size_t q = 0; q < again.size(); ++q) {
+        res.point_radiosity[again[q]] = gathered[q];
+        near_known.add(todo[q].surface, {mesh.vertex_position(again[q]), near[q]});
+    }
+    return true;
+}
+
 }  // namespace
 
 double dark_floor(const std::vector<Patch>& patches, const std::vector<Rgb>& radiosity) {
@@ -297,19 +468,12 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     std::vector<Rgb> corners = corner_values(mesh, res.point_radiosity);
     GatherOptions shaped = point_value_options();
     shaped.source_corners = corners;
-    {
-        const std::vector<GatherPoint> points = vertex_gather_points(mesh);
-        const std::vector<std::size_t> again =
-            vertices_beside_shaped_sources(points, sources, corners, shaped.shape_within, options.tolerance);
-        std::vector<GatherPoint> todo;
-        for (const std::size_t v : again) todo.push_back(points[v]);
-        const std::vector<Rgb> gathered = final_gather(sources, radiosity, visibility, todo, shaped, cancel, progress);
-        if (cancel && cancel->load()) return 0;
-        for (std::size_t q = 0; q < again.size(); ++q) res.point_radiosity[again[q]] = gathered[q];
-        corners = corner_values(mesh, res.point_radiosity);
-        shaped.source_corners = corners;
-    }
     ElementTree tree(sources);
+    PointValues near_known(tree.weld());  // per gathered point, the part its near sources sent
+    if (!gather_beside_shaped_sources(mesh, res, visibility, shaped, options.tolerance, near_known, cancel, progress))
+        return 0;
+    corners = corner_values(mesh, res.point_radiosity);
+    shaped.source_corners = corners;
     PointValues known(tree.weld());
     const double floor = dark_floor(sources, radiosity);
     std::vector<Candidate> active = patches_to_try(mesh, radiosity, res.point_radiosity, options, floor, known);
@@ -346,7 +510,7 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
         }
         const PatchMesh next = tree.conforming_mesh(trial);
         if (!gather_new_vertices(next, vertex_gather_points(next), sources, radiosity, visibility, shaped, known,
-                                 cancel, progress))
+                                 near_known, cancel, progress))
             return 0;
         // Keep the splits whose new points the interpolation misses; the others go back to
         // their parent (its gathered points are then left unused).
@@ -387,7 +551,11 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     if (cells.size() == n) return 0;
     PatchMesh refined = tree.conforming_mesh(cells);
     const std::vector<GatherPoint> points = vertex_gather_points(refined);
-    if (!gather_new_vertices(refined, points, sources, radiosity, visibility, shaped, known, cancel, progress))
+    if (!gather_new_vertices(refined, points, sources, radiosity, visibility, shaped, known, near_known, cancel,
+                             progress))
+        return 0;
+    if (options.near_field_passes > 0 && !gather_near_field(tree, cells, refined, points, known, near_known, visibility,
+                                                            shaped, options.near_field_passes, cancel))
         return 0;
     std::vector<Rgb> values(points.size());
     for (std::size_t v = 0; v < points.size(); ++v)

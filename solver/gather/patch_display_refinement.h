@@ -39,6 +39,15 @@ struct PatchDisplayRefinement {
     /// most (the largest relative miss or corner step first), and is the last: in a cluttered
     /// scene, where most patches bend the light, the sharpest shadow lines get the splits.
     double max_pairs = 0.0;  // 0: display_pairs_budget(patches), point_values.h
+    /// Passes of the near field over the display cells: beside a contact (a block on a floor,
+    /// two boxes crossing at an acute angle) a point sees mostly the near strip of the other
+    /// surface, whose light and its own darken together towards the contact line, each by what
+    /// the other sends. One gather from the solved patches sends each near patch's mean shaped
+    /// by its corners, which cannot follow that; each pass gathers the part of a vertex's value
+    /// that came from near sources (GatherOptions::shape_within) again from those sources'
+    /// display cells, at their point data, keeping the rest (a Jacobi step of the near field
+    /// at the cells' resolution). 0: off.
+    int near_field_passes = 3;
 };
 
 /// The display tolerance the patch solvers gather with unless one is given.

@@ -27,6 +27,13 @@ public:
         Rgb value;
     };
     void add(int surface, const Entry& e) { m_grid[key(surface, e.at)].push_back(e); }
+    /// Replaces the value of the point at x (within the weld); false when there is none.
+    bool set(int surface, const glm::dvec3& x, const Rgb& value) {
+        const Rgb* found = find(surface, x);
+        if (!found) return false;
+        *const_cast<Rgb*>(found) = value;  // find's entry lives in m_grid, which this object owns
+        return true;
+    }
     const Rgb* find(int surface, const glm::dvec3& x) const {
         const Key k = key(surface, x);
         for (std::int64_t dx = -1; dx <= 1; ++dx)

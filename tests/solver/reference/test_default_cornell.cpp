@@ -90,10 +90,8 @@ std::array<ClassScore, 4> default_run_by_class(const std::string& scene_name, co
 
 }  // namespace
 
-// Issue 34's goals where it is hard: point data within 1.5% RMS, penumbra probes within 3% RMS,
-// the cells' values within 5% RMS.
-// (Its 5% at the worst probe is not met yet: a point on the short block's side 5 mm above the
-// floor, where the face's lowest vertices gather its near strip of floor, is about 15% off.)
+// Issue 34's goals where it is hard: point data within 1.5% RMS and 5% at the worst probe,
+// penumbra probes within 3% RMS, the cells' values within 5% RMS.
 // Where a block stands on the floor, the penumbra of its edge narrows to nothing at its foot: a
 // step in the light that a 30 mm patch's cells, split twice (7.5 mm), straddle, so a probe a
 // millimetre or two beside the line takes the other side's light from a corner across it, and
@@ -107,7 +105,7 @@ TEST(DefaultCornell, DisplayCellsMeetThePointDataGoalsWhereItIsHard) {
     EXPECT_LE(by_class[1].rms_smooth, 0.03);  // penumbra
     EXPECT_GE(by_class[1].scored, 40u);
     EXPECT_LE(all.rms_patch, 0.05);
-    EXPECT_LE(all.max_smooth, 0.16);
+    EXPECT_LE(all.max_smooth, 0.05);
     PatchDisplayRefinement two_splits{kPatchDisplayTolerance};
     two_splits.step_depth = 0;
     default_run_by_class("cornell", "examples/reference/cornell_classes_192.csv", stopped, 1, two_splits);
@@ -153,4 +151,39 @@ TEST(DefaultCorridor, DisplayCellsMeetThePointDataGoalsBeyondTheReferencesNoise)
     EXPECT_LE(beyond_noise, 0.015);
     EXPECT_LE(by_class[1].rms_smooth, 0.03);
     EXPECT_GE(by_class[1].scored, 10u);  // its penumbrae are thin: 12 of its probes
+}
+
+// Where the short block stands on the floor, the block's side and the floor in front of it
+// darken together towards their common edge, each by the dark strip of the other it sees most
+// of: 34 points path-traced to 0.3% (examples/reference/cornell_block_foot.csv: 17 up the
+// side from 0.3 to 80 mm above the floor, 17 out along the floor from 0.3 to 80 mm, written
+// by `bounce reference cornell --points P.csv --target-error 0.003 --max-paths 4000000`).
+// Gathered once from the 30 mm patches, each near patch sending its mean shaped by its
+// corners, the point data was 31% (side) and 36% (floor) too bright 0.3 mm from the edge and
+// 5% a centimetre up; the near field's passes over the display cells
+// (PatchDisplayRefinement::near_field_passes) follow the darkening down to the edge.
+TEST(DefaultCornell, PointDataFollowTheDarkeningIntoTheBlocksFoot) {
+    const auto reference =
+        read_reference(std::filesystem::path(BOUNCE_SOURCE_DIR) / "examples/reference/cornell_block_foot.csv");
+    ASSERT_EQ(reference.size(), 34u);
+    const auto run = [&](int passes) {
+        PatchMesh mesh(load_scene("cornell"), MeshingOptions{});
+        const auto visibility = make_visibility("embree", mesh.patches());
+        const auto ff = make_form_factor_estimator("raycast", mesh.patches(), visibility.get(), {});
+        SolveResult res = ShootingSolver(mesh.patches(), *ff, SolverOptions{}).solve();
+        PatchDisplayRefinement cells{kPatchDisplayTolerance};
+        cells.near_field_passes = passes;
+        EXPECT_EQ(gather_point_values(mesh, *visibility, res, "vertices", cells), GatherOutcome::gathered);
+        return score_at_probes(mesh, res.radiosity, reference, res.point_radiosity);
+    };
+    const ProbeScore s = run(PatchDisplayRefinement{}.near_field_passes);
+    std::cout << "block foot: point data " << s.rms_smooth << " RMS, " << s.max_smooth << " worst (noise "
+              << s.reference_noise << ")\n";
+    EXPECT_EQ(s.scored, 34u);
+    EXPECT_LE(s.rms_smooth, 0.025);
+    EXPECT_LE(s.max_smooth, 0.05);
+    const ProbeScore once = run(0);
+    std::cout << "block foot, gathered once: point data " << once.rms_smooth << " RMS, " << once.max_smooth
+              << " worst\n";
+    EXPECT_GT(once.max_smooth, 2 * s.max_smooth);
 }
