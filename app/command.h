@@ -26,5 +26,6 @@ Command add_render_command(CLI::App& app, CommonOptions& common);        // app/
 Command add_view_command(CLI::App& app, CommonOptions& common);          // app/view.cpp
 Command add_info_command(CLI::App& app, CommonOptions& common);          // app/info.cpp
 Command add_reference_command(CLI::App& app, CommonOptions& common);     // app/reference.cpp
+Command add_score_command(CLI::App& app, CommonOptions& common);         // app/score.cpp
 
 }  // namespace bounce::app

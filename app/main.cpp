@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     const std::vector<Command> commands = {
         add_solve_command(app, common),     add_form_factors_command(app, common), add_compare_command(app, common),
         add_render_command(app, common),    add_view_command(app, common),         add_info_command(app, common),
-        add_reference_command(app, common),
+        add_reference_command(app, common), add_score_command(app, common),
     };
 
     // CLI11 answers an unknown command with "A subcommand is required": name it instead, and

@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdint>
-#include <sstream>
 
 #include <vtkActor.h>
 #include <vtkCallbackCommand.h>
@@ -51,29 +49,6 @@ void set_camera(vtkRenderer* ren, const CameraPose& pose) {
     cam->SetViewAngle(pose.view_angle);
     cam->OrthogonalizeViewUp();
     ren->ResetCameraClippingRange();
-}
-
-/// The caption of an unfinished solution (UnfinishedNote); empty when the field data says it
-/// converged or says nothing.
-std::string unfinished_caption(vtkUnstructuredGrid* g) {
-    vtkFieldData* fd = g->GetFieldData();
-    vtkDataArray* converged = fd ? fd->GetArray("converged") : nullptr;
-    if (!converged || converged->GetNumberOfTuples() < 1 || converged->GetTuple1(0) != 0) return "";
-    std::ostringstream s;
-    s << "NOT CONVERGED";
-    if (const std::string status = field_text(fd, "status"); !status.empty()) s << " (" << status << ")";
-    const char* sep = ": ";
-    if (vtkDataArray* steps = fd->GetArray("steps"); steps && steps->GetNumberOfTuples() > 0) {
-        s << " after " << std::int64_t(steps->GetTuple1(0)) << " steps";
-        sep = ", ";
-    }
-    vtkDataArray* unshot = fd->GetArray("unshot_fraction");
-    vtkDataArray* residual = fd->GetArray("residual");
-    if (unshot && unshot->GetNumberOfTuples() > 0 && unshot->GetTuple1(0) > 0)
-        s << sep << "unshot fraction " << unshot->GetTuple1(0);
-    else if (residual && residual->GetNumberOfTuples() > 0 && residual->GetTuple1(0) >= 0)
-        s << sep << "residual " << residual->GetTuple1(0);
-    return s.str();
 }
 
 struct Scene3d {

@@ -23,6 +23,10 @@ vtkSmartPointer<vtkUnstructuredGrid> make_solution_grid(const PatchMesh& mesh, c
 /// A text field written by write_vtu (a string array, or a char array with text_as_chars).
 std::string field_text(vtkFieldData* fd, const char* name);
 
+/// The caption of an unfinished solution (UnfinishedNote): "NOT CONVERGED (status) after N
+/// steps, unshot fraction F"; empty when the field data says it converged or says nothing.
+std::string unfinished_caption(vtkUnstructuredGrid* g);
+
 /// Reads a .vtu written by bounce (or any .vtu with a 3-component cell array "radiosity");
 /// throws InputError naming the file when it is missing, unreadable or lacks the arrays.
 vtkSmartPointer<vtkUnstructuredGrid> read_solution_grid(const std::filesystem::path& path);

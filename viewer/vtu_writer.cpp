@@ -2,12 +2,15 @@
 #include "viewer/vtu_writer.h"
 
 #include <unistd.h>
+#include <cstdint>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCharArray.h>
+#include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIntArray.h>
@@ -230,6 +233,27 @@ vtkSmartPointer<vtkUnstructuredGrid> read_solution_grid(const std::filesystem::p
         throw InputError(path.string() + ": corrupt .vtu or no 3-component cell array 'radiosity'");
     vtkSmartPointer<vtkUnstructuredGrid> out = g;
     return out;
+}
+
+std::string unfinished_caption(vtkUnstructuredGrid* g) {
+    vtkFieldData* fd = g->GetFieldData();
+    vtkDataArray* converged = fd ? fd->GetArray("converged") : nullptr;
+    if (!converged || converged->GetNumberOfTuples() < 1 || converged->GetTuple1(0) != 0) return "";
+    std::ostringstream s;
+    s << "NOT CONVERGED";
+    if (const std::string status = field_text(fd, "status"); !status.empty()) s << " (" << status << ")";
+    const char* sep = ": ";
+    if (vtkDataArray* steps = fd->GetArray("steps"); steps && steps->GetNumberOfTuples() > 0) {
+        s << " after " << std::int64_t(steps->GetTuple1(0)) << " steps";
+        sep = ", ";
+    }
+    vtkDataArray* unshot = fd->GetArray("unshot_fraction");
+    vtkDataArray* residual = fd->GetArray("residual");
+    if (unshot && unshot->GetNumberOfTuples() > 0 && unshot->GetTuple1(0) > 0)
+        s << sep << "unshot fraction " << unshot->GetTuple1(0);
+    else if (residual && residual->GetNumberOfTuples() > 0 && residual->GetTuple1(0) >= 0)
+        s << sep << "residual " << residual->GetTuple1(0);
+    return s.str();
 }
 
 }  // namespace bounce
