@@ -136,19 +136,17 @@ TEST(DefaultStudy, DisplayCellsMeetThePointDataGoalsWhereItIsHard) {
     EXPECT_GE(by_class[1].scored, 40u);
 }
 
-// The corridor's reference is path-traced to a budget, not to 0.5%, in its dark far leg: its own
-// noise is about 1.6% RMS over the probes, so the point data's error is what the RMS holds
-// beyond that noise (in quadrature: the two are independent).
-TEST(DefaultCorridor, DisplayCellsMeetThePointDataGoalsBeyondTheReferencesNoise) {
+// The corridor's dark far leg, lit only by the walls, is path-traced to 1% per probe (the rest
+// to 0.5%; the reference's own noise is 0.7% RMS over the probes): issue 34's goals of 1.5%
+// RMS and 5% at the worst probe hold against it as they stand, with no allowance for noise.
+TEST(DefaultCorridor, DisplayCellsMeetThePointDataGoalsWhereItIsHard) {
     ProbeScore all;
     const auto by_class = default_run_by_class(std::string(BOUNCE_SOURCE_DIR) + "/examples/scenes/corridor.obj",
                                                "examples/reference/corridor_classes_192.csv", all);
     EXPECT_GE(all.scored, 180u);
-    const double beyond_noise =
-        std::sqrt(std::max(0.0, all.rms_smooth * all.rms_smooth - all.reference_noise * all.reference_noise));
-    std::cout << "corridor: reference noise " << all.reference_noise << " RMS; point data beyond it " << beyond_noise
-              << "\n";
-    EXPECT_LE(beyond_noise, 0.015);
+    EXPECT_LE(all.reference_noise, 0.01);
+    EXPECT_LE(all.rms_smooth, 0.015);
+    EXPECT_LE(all.max_smooth, 0.05);
     EXPECT_LE(by_class[1].rms_smooth, 0.03);
     EXPECT_GE(by_class[1].scored, 10u);  // its penumbrae are thin: 12 of its probes
 }
