@@ -25,6 +25,15 @@
 namespace bounce {
 namespace {
 
+/// The part of a gathered vertex's value that its near (shaped) sources sent, and the point
+/// it was gathered at: the near field's passes gather that part again at the same point, so
+/// what they keep and what they add are taken at one place.
+struct NearPart {
+    Rgb value;
+    GatherPoint at;
+};
+using NearParts = PointMap<NearPart>;
+
 /// A point a split adds, at parameters uv of the node's root, and the corners (indices into
 /// the node's corners; -1 unused) whose mean is the linear interpolation there: an edge's
 /// two ends for its midpoint, all four for a quad's centre (bilinear).
@@ -127,7 +136,7 @@ double corner_step(const ElementTree& tree, const PointValues& known, std::uint3
 bool gather_new_vertices(const PatchMesh& mesh, const std::vector<GatherPoint>& points,
                          const std::vector<Patch>& sources, const std::vector<Rgb>& radiosity,
                          const Visibility& visibility, const GatherOptions& options, PointValues& known,
-                         PointValues& near_known, const std::atomic<bool>* cancel,
+                         NearParts& near_known, const std::atomic<bool>* cancel,
                          const std::function<void(std::size_t, std::size_t)>& progress) {
     std::vector<GatherPoint> todo;
     std::vector<glm::dvec3> at;
@@ -143,7 +152,7 @@ bool gather_new_vertices(const PatchMesh& mesh, const std::vector<GatherPoint>& 
     if (cancel && cancel->load()) return false;
     for (std::size_t q = 0; q < todo.size(); ++q) {
         known.add(todo[q].surface, {at[q], gathered[q]});
-        near_known.add(todo[q].surface, {at[q], near[q]});
+        near_known.add(todo[q].surface, {at[q], {near[q], todo[q]}});
     }
     return true;
 }
@@ -366,7 +375,7 @@ std::vector<std::vector<std::uint32_t>> near_roots(const std::vector<Patch>& roo
 /// roots at the cells' current point data: B = (B_0 - near_0) + rho H_near. False when
 /// `cancel` was set.
 bool gather_near_field(const ElementTree& tree, const std::vector<std::uint32_t>& cells, const PatchMesh& refined,
-                       const std::vector<GatherPoint>& points, PointValues& known, const PointValues& near_known,
+                       const std::vector<GatherPoint>& points, PointValues& known, const NearParts& near_known,
                        const Visibility& visibility, const GatherOptions& options, int passes,
                        const std::atomic<bool>* cancel) {
     DisplaySources d;
@@ -379,22 +388,24 @@ bool gather_near_field(const ElementTree& tree, const std::vector<std::uint32_t>
             d.first_child[std::size_t(a)] = tree.node(std::size_t(a)).first_child;
         }
     }
-    const std::vector<std::vector<std::uint32_t>> near = near_roots(tree.roots(), points, options.shape_within);
     std::vector<std::size_t> todo;
     std::vector<Rgb> far;  // B_0 - near_0: what the pass keeps
     std::vector<GatherPoint> at;
-    std::vector<std::uint32_t> list, listed;
-    std::vector<std::size_t> offsets = {0};
     for (std::size_t v = 0; v < points.size(); ++v) {
         const glm::dvec3 x = refined.vertex_position(v);
         const Rgb* b = known.find(points[v].surface, x);
-        const Rgb* n = near_known.find(points[v].surface, x);
-        if (!b || !n || near[v].empty() || !(n->max() > 0)) continue;
+        const NearPart* n = near_known.find(points[v].surface, x);
+        if (!b || !n || !(n->value.max() > 0)) continue;
         todo.push_back(v);
-        far.push_back(*b - *n);
-        at.push_back(points[v]);
-        list.push_back(std::uint32_t(offsets.size() - 1));
-        listed.insert(listed.end(), near[v].begin(), near[v].end());
+        far.push_back(*b - n->value);
+        at.push_back(n->at);
+    }
+    const std::vector<std::vector<std::uint32_t>> near = near_roots(tree.roots(), at, options.shape_within);
+    std::vector<std::uint32_t> list(at.size()), listed;
+    std::vector<std::size_t> offsets = {0};
+    for (std::size_t q = 0; q < at.size(); ++q) {
+        list[q] = std::uint32_t(q);
+        listed.insert(listed.end(), near[q].begin(), near[q].end());
         offsets.push_back(listed.size());
     }
     if (todo.empty()) return true;
@@ -413,6 +424,7 @@ bool gather_near_field(const ElementTree& tree, const std::vector<std::uint32_t>
         const std::vector<Rgb> gathered = final_gather(sources, d.radiosity, visibility, at, s, o, cancel);
         if (cancel && cancel->load()) return false;
         for (std::size_t q = 0; q < todo.size(); ++q) {
+            if (near[q].empty()) continue;  // its near sources are gone (none in front): B_0 stays
             Rgb b = far[q] + gathered[q] - at[q].emission;
             for (int c = 0; c < 3; ++c) b[c] = std::max(b[c], at[q].emission[c]);
             known.set(at[q].surface, refined.vertex_position(todo[q]), b);
@@ -425,7 +437,7 @@ bool gather_near_field(const ElementTree& tree, const std::vector<std::uint32_t>
 /// gathered again with those sources' shape (`shaped`), into res.point_radiosity, each
 /// vertex's near part into `near_known`. False when `cancel` was set.
 bool gather_beside_shaped_sources(const PatchMesh& mesh, SolveResult& res, const Visibility& visibility,
-                                  const GatherOptions& shaped, double tolerance, PointValues& near_known,
+                                  const GatherOptions& shaped, double tolerance, NearParts& near_known,
                                   const std::atomic<bool>* cancel,
                                   const std::function<void(std::size_t, std::size_t)>& progress) {
     const std::vector<GatherPoint> points = vertex_gather_points(mesh);
@@ -439,7 +451,7 @@ bool gather_beside_shaped_sources(const PatchMesh& mesh, SolveResult& res, const
     if (cancel && cancel->load()) return false;
     for (std::size_t q = 0; q < again.size(); ++q) {
         res.point_radiosity[again[q]] = gathered[q];
-        near_known.add(todo[q].surface, {mesh.vertex_position(again[q]), near[q]});
+        near_known.add(todo[q].surface, {mesh.vertex_position(again[q]), {near[q], todo[q]}});
     }
     return true;
 }
@@ -469,7 +481,7 @@ std::size_t refine_patch_display(PatchMesh& mesh, SolveResult& res, const Visibi
     GatherOptions shaped = point_value_options();
     shaped.source_corners = corners;
     ElementTree tree(sources);
-    PointValues near_known(tree.weld());  // per gathered point, the part its near sources sent
+    NearParts near_known(tree.weld());  // per gathered point, the part its near sources sent
     if (!gather_beside_shaped_sources(mesh, res, visibility, shaped, options.tolerance, near_known, cancel, progress))
         return 0;
     corners = corner_values(mesh, res.point_radiosity);

@@ -16,25 +16,26 @@
 
 namespace bounce {
 
-/// Point values by position within a surface, to carry the gathered vertices of one
-/// conforming mesh over to the next: the mesh welds points closer than 1e-9 of the scene's
-/// diagonal, so a point may come back a few bits off when another leaf first names it.
-class PointValues {
+/// Values by position within a surface, to carry the gathered vertices of one conforming
+/// mesh over to the next: the mesh welds points closer than 1e-9 of the scene's diagonal, so a
+/// point may come back a few bits off when another leaf first names it.
+template <class Value>
+class PointMap {
 public:
-    explicit PointValues(double weld) : m_weld(weld), m_cell(1024 * weld) {}
+    explicit PointMap(double weld) : m_weld(weld), m_cell(1024 * weld) {}
     struct Entry {
         glm::dvec3 at;
-        Rgb value;
+        Value value;
     };
     void add(int surface, const Entry& e) { m_grid[key(surface, e.at)].push_back(e); }
     /// Replaces the value of the point at x (within the weld); false when there is none.
-    bool set(int surface, const glm::dvec3& x, const Rgb& value) {
-        const Rgb* found = find(surface, x);
+    bool set(int surface, const glm::dvec3& x, const Value& value) {
+        const Value* found = find(surface, x);
         if (!found) return false;
-        *const_cast<Rgb*>(found) = value;  // find's entry lives in m_grid, which this object owns
+        *const_cast<Value*>(found) = value;  // find's entry lives in m_grid, which this object owns
         return true;
     }
-    const Rgb* find(int surface, const glm::dvec3& x) const {
+    const Value* find(int surface, const glm::dvec3& x) const {
         const Key k = key(surface, x);
         for (std::int64_t dx = -1; dx <= 1; ++dx)
             for (std::int64_t dy = -1; dy <= 1; ++dy)
@@ -68,5 +69,8 @@ private:
     double m_weld, m_cell;
     std::unordered_map<Key, std::vector<Entry>, Hash> m_grid;
 };
+
+/// Gathered point values (radiosity) by position.
+using PointValues = PointMap<Rgb>;
 
 }  // namespace bounce
