@@ -33,8 +33,7 @@ struct ScoreCommand {
 
 /// The reference's class column (what `bounce reference --probes` writes), one class per row;
 /// nothing when it has no such column.
-std::optional<std::vector<ProbeClass>> reference_classes(const std::string& path) {
-    const CsvTable t = read_csv(path);
+std::optional<std::vector<ProbeClass>> reference_classes(const CsvTable& t, const std::string& path) {
     const int column = t.column("class");
     if (column < 0) return std::nullopt;
     std::vector<ProbeClass> out;
@@ -139,8 +138,9 @@ void write_probes(const std::string& out, const std::vector<ReferencePoint>& ref
 
 int run_score(const CommonOptions& o, const ScoreCommand& c) {
     if (!c.out.empty()) check_output(c.out);
-    const std::vector<ReferencePoint> reference = read_reference(c.reference);
-    const auto classes = reference_classes(c.reference);
+    const CsvTable table = read_csv(c.reference);
+    const std::vector<ReferencePoint> reference = read_reference(table, c.reference);
+    const auto classes = reference_classes(table, c.reference);
     const SolutionFile solution = read_solution(c.vtu);
     const ProbeScore s = score_at_probes(solution.mesh, solution.cell_radiosity, reference, solution.point_radiosity);
     if (s.scored == 0)

@@ -13,7 +13,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <glm/ext/vector_int3_sized.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
@@ -168,6 +167,14 @@ std::vector<Rgb> corner_values(const PatchMesh& mesh, const std::vector<Rgb>& po
     return out;
 }
 
+/// True when the gather shapes source `p` at point `x` (GatherOptions::shape_within): p lies
+/// on another surface, x is in front of it, and x is within `within` of p's circumradius of
+/// its centre.
+bool shapes_at(const Patch& p, const GatherPoint& x, double within) {
+    return p.surface != x.surface && p.height(x.position) > 0 &&
+           glm::length(x.position - p.centre) < within * circumradius(p);
+}
+
 /// The vertices that have a source of another surface within `within` of its circumradius
 /// in front of them whose corners differ by more than `tolerance` of the brightest: their
 /// values change when those sources send their shape (beside a contact, a wall's strip).
@@ -188,10 +195,7 @@ std::vector<std::size_t> vertices_beside_shaped_sources(const std::vector<Gather
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64), [&](const auto& range) {
         for (std::size_t v = range.begin(); v != range.end(); ++v)
             for (const std::uint32_t j : shaped) {
-                const Patch& p = patches[j];
-                if (p.surface == points[v].surface || p.height(points[v].position) <= 0) continue;
-                const double r = circumradius(p);
-                if (glm::length(points[v].position - p.centre) < within * r) {
+                if (shapes_at(patches[j], points[v], within)) {
                     near[v] = 1;
                     break;
                 }
@@ -342,29 +346,24 @@ std::vector<std::vector<std::uint32_t>> near_roots(const std::vector<Patch>& roo
     double reach = 0.0;
     for (const Patch& p : roots) reach = std::max(reach, within * circumradius(p));
     if (points.empty() || !(reach > 0)) return out;
+    using Cell = std::array<std::int64_t, 3>;
     const auto key = [reach](const glm::dvec3& x) {
-        return glm::i64vec3(std::floor(x.x / reach), std::floor(x.y / reach), std::floor(x.z / reach));
+        return Cell{std::int64_t(std::floor(x.x / reach)), std::int64_t(std::floor(x.y / reach)),
+                    std::int64_t(std::floor(x.z / reach))};
     };
-    std::map<std::array<std::int64_t, 3>, std::vector<std::uint32_t>> grid;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        const glm::i64vec3 k = key(points[i].position);
-        grid[{k.x, k.y, k.z}].push_back(std::uint32_t(i));
-    }
+    std::map<Cell, std::vector<std::uint32_t>> grid;
+    for (std::size_t i = 0; i < points.size(); ++i) grid[key(points[i].position)].push_back(std::uint32_t(i));
     for (std::size_t j = 0; j < roots.size(); ++j) {
         const Patch& p = roots[j];
         const double r = within * circumradius(p);
-        const glm::i64vec3 lo = key(p.centre - glm::dvec3(r)), hi = key(p.centre + glm::dvec3(r));
-        for (std::int64_t x = lo.x; x <= hi.x; ++x)
-            for (std::int64_t y = lo.y; y <= hi.y; ++y)
-                for (std::int64_t z = lo.z; z <= hi.z; ++z) {
+        const Cell lo = key(p.centre - glm::dvec3(r)), hi = key(p.centre + glm::dvec3(r));
+        for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
+            for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+                for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
                     const auto it = grid.find({x, y, z});
                     if (it == grid.end()) continue;
-                    for (const std::uint32_t i : it->second) {
-                        const GatherPoint& g = points[i];
-                        if (p.surface != g.surface && p.height(g.position) > 0 &&
-                            glm::length(g.position - p.centre) < r)
-                            out[i].push_back(std::uint32_t(j));
-                    }
+                    for (const std::uint32_t i : it->second)
+                        if (shapes_at(p, points[i], within)) out[i].push_back(std::uint32_t(j));
                 }
     }
     return out;

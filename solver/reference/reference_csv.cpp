@@ -159,8 +159,11 @@ std::vector<PointRow> point_rows(const CsvTable& t, const std::filesystem::path&
 }
 
 std::vector<ReferencePoint> read_reference(const std::filesystem::path& path) {
+    return read_reference(read_csv(path), path);
+}
+
+std::vector<ReferencePoint> read_reference(const CsvTable& t, const std::filesystem::path& path) {
     const std::string p = path.string();
-    const CsvTable t = read_csv(path);
     const auto rows = point_rows(t, path);
     const auto c = required_columns<8>(t, {"B_r", "B_g", "B_b", "se_r", "se_g", "se_b", "paths", "status"}, p);
     const int surface = t.column("surface");

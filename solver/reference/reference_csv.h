@@ -55,5 +55,8 @@ struct ReferencePoint {
 
 /// Reads a file written by `bounce reference`; throws InputError naming the file and line.
 std::vector<ReferencePoint> read_reference(const std::filesystem::path& path);
+/// The same from a table already read from `path` (named in messages), for a caller that also
+/// reads other columns of it.
+std::vector<ReferencePoint> read_reference(const CsvTable& table, const std::filesystem::path& path);
 
 }  // namespace bounce
