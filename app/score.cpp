@@ -146,6 +146,12 @@ int run_score(const CommonOptions& o, const ScoreCommand& c) {
     if (s.scored == 0)
         throw InputError(c.reference + ": none of its " + std::to_string(reference.size()) +
                          " probes lies on a diffuse cell of " + c.vtu + " (a reference of another scene?)");
+    // Dark probes and probes without a value are few in a reference of the same scene; most
+    // probes off the mesh mean another scene whose surfaces the mesh meets by chance.
+    if (!o.quiet && s.skipped > s.scored)
+        std::cerr << "bounce: note: " << c.reference << ": " << s.skipped << " of its " << reference.size()
+                  << " probes are not scored (no value, dark, or on no diffuse cell of " << c.vtu
+                  << "): a reference of another scene?\n";
     if (!o.quiet && !solution.unfinished.empty())
         std::cerr << "bounce: note: " << c.vtu << ": " << solution.unfinished
                   << "; these are the scores of that partial solution\n";

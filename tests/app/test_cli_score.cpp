@@ -272,6 +272,20 @@ TEST(CliScore, RefusesMissingFilesAndAReferenceOffTheMesh) {
         << off.err;
     EXPECT_EQ(off.out, "");
 
+    // The study's probes (metres) on the Cornell box (millimetres): a few lie on its floor and
+    // walls by chance, and the rest are noted.
+    const auto cornell = dir / "cornell.vtu";
+    ASSERT_EQ(bounce_run("solve --patches 300 -q -o " + cornell.string()).exit_code, 0);
+    const auto study = std::filesystem::path(BOUNCE_SOURCE_DIR) / "examples" / "reference" / "study_classes_192.csv";
+    const auto chance = bounce_run("score " + cornell.string() + " --reference " + study.string());
+    EXPECT_EQ(chance.exit_code, 0);
+    EXPECT_EQ(lines(chance.err), 1) << chance.err;
+    EXPECT_NE(chance.err.find("probes are not scored"), std::string::npos) << chance.err;
+    EXPECT_NE(chance.err.find("a reference of another scene?"), std::string::npos) << chance.err;
+    const auto own = bounce_run("score " + cornell.string() + " --reference " + ref.string());
+    EXPECT_EQ(own.exit_code, 0);
+    EXPECT_EQ(own.err.find("not scored"), std::string::npos) << own.err;
+
     std::string shadow = furnace_reference(2.0, 0.02);
     shadow.replace(shadow.find(",lit,"), 5, ",shadow,");
     const auto bad_class =
